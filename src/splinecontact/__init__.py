@@ -1,0 +1,31 @@
+"""splinecontact: contact mechanics of rough surfaces by spline assisted discretization.
+
+Implements Hanaor, Gan & Einav, *Contact mechanics of fractal surfaces by spline assisted
+discretisation*, Int. J. Solids Struct. 59 (2015) 121–131, with the corrections documented in
+``docs/conventions.md``.
+
+Units throughout: lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness
+(1 GPa · 1 µm² = 1 mN).
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("splinecontact")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0+unknown"
+
+from .errors import *  # noqa: E402,F403
+from .errors import __all__ as _errors_all  # noqa: E402
+from .profile import Profile  # noqa: E402
+from .results import ContactRecord, SimulationResult  # noqa: E402
+
+__all__ = [
+    "ContactRecord",
+    "Profile",
+    "SimulationResult",
+    "__version__",
+    *_errors_all,
+]

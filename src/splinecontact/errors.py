@@ -1,0 +1,99 @@
+"""Exception hierarchy of splinecontact.
+
+Every error the package raises on purpose derives from :class:`SplineContactError`, so a script
+(or the command line) can catch one class. Each subclass names one kind of mistake; its message
+says what was wrong, with the offending index or value, and what to do about it.
+
+Stage-specific modules may define further subclasses of the classes below (for example the
+readers in :mod:`splinecontact.io` subclass :class:`ProfileReadError`).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "BEMError",
+    "GridMismatchError",
+    "GridNotIncreasingError",
+    "GridNotUniformError",
+    "NoConvergenceError",
+    "NonFiniteValueError",
+    "ParameterError",
+    "ProfileError",
+    "ProfileReadError",
+    "ProfileShapeError",
+    "SplineContactError",
+    "StudyConfigError",
+    "StudyStoreError",
+    "TooFewPointsError",
+]
+
+
+class SplineContactError(Exception):
+    """Base class of every error raised on purpose by splinecontact."""
+
+
+# --- profiles -------------------------------------------------------------------------------
+
+
+class ProfileError(SplineContactError, ValueError):
+    """A profile's grid or heights are not acceptable."""
+
+
+class ProfileShapeError(ProfileError):
+    """``x`` and ``z`` are not one-dimensional arrays of the same length."""
+
+
+class TooFewPointsError(ProfileError):
+    """The profile has fewer points than the method needs."""
+
+
+class NonFiniteValueError(ProfileError):
+    """A grid position or height is NaN or infinite."""
+
+
+class GridNotIncreasingError(ProfileError):
+    """The grid ``x`` is not strictly increasing."""
+
+
+class GridNotUniformError(ProfileError):
+    """The grid ``x`` is not uniformly spaced within the stated tolerance."""
+
+
+class GridMismatchError(ProfileError):
+    """Two profiles that must share a grid (upper and lower body) do not."""
+
+
+# --- parameters -----------------------------------------------------------------------------
+
+
+class ParameterError(SplineContactError, ValueError):
+    """A numerical parameter is outside its valid range (for example D ∉ [1, 2] or E* ≤ 0)."""
+
+
+# --- reading measured data ------------------------------------------------------------------
+
+
+class ProfileReadError(SplineContactError):
+    """A profile file could not be read or understood."""
+
+
+# --- studies --------------------------------------------------------------------------------
+
+
+class StudyConfigError(SplineContactError):
+    """A study file is invalid (unknown key, wrong type, value out of range)."""
+
+
+class StudyStoreError(SplineContactError):
+    """A study store cannot be used (belongs to another study, is damaged, ...)."""
+
+
+# --- boundary element reference solver -----------------------------------------------------
+
+
+class BEMError(SplineContactError):
+    """Invalid input to the boundary element reference solver."""
+
+
+class NoConvergenceError(BEMError):
+    """An iterative solver did not reach its tolerance within its iteration limit."""

@@ -1,0 +1,167 @@
+"""Surface profiles: a uniform grid ``x`` [µm] and heights ``z`` [µm].
+
+A :class:`Profile` is the input of every later stage. Heights are stored as a profilometer
+records them: pointing *out of the body* the profile belongs to (a peak is a maximum of ``z``).
+:func:`splinecontact.simulate` turns the upper body over to face the lower one.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import (
+    GridNotIncreasingError,
+    GridNotUniformError,
+    NonFiniteValueError,
+    ProfileShapeError,
+    TooFewPointsError,
+)
+
+__all__ = ["MIN_POINTS", "UNIFORM_GRID_RTOL", "Profile"]
+
+#: Fewest points a profile may have (the spline of eqs. 2–3 needs a few interior knots).
+MIN_POINTS = 5
+
+#: Largest allowed deviation of any grid step from the mean step, relative to the mean step.
+UNIFORM_GRID_RTOL = 1e-6
+
+
+def _as_float_vector(values: ArrayLike, name: str) -> NDArray[np.float64]:
+    array = np.array(values, dtype=np.float64, copy=True)
+    if array.ndim != 1:
+        raise ProfileShapeError(
+            f"{name} must be a one-dimensional array, got shape {array.shape}; "
+            "pass a single line scan"
+        )
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class Profile:
+    """A line profile of a rough surface on a uniform grid.
+
+    Parameters
+    ----------
+    x : array_like
+        Lateral positions [µm], strictly increasing and uniformly spaced (every step within
+        ``UNIFORM_GRID_RTOL`` = 1e-6 of the mean step, relative).
+    z : array_like
+        Heights [µm], pointing out of the body the profile belongs to.
+    metadata : mapping, optional
+        Provenance: ``source`` (generator name or file), generator parameters, seed,
+        preprocessing steps. Stored as a plain ``dict``; treat it as read-only.
+
+    Raises
+    ------
+    ProfileShapeError
+        ``x`` or ``z`` is not one-dimensional, or their lengths differ.
+    TooFewPointsError
+        Fewer than ``MIN_POINTS`` (5) points.
+    NonFiniteValueError
+        A value of ``x`` or ``z`` is NaN or infinite (the message names the first index).
+    GridNotIncreasingError
+        ``x`` is not strictly increasing (the message names the first offending index).
+    GridNotUniformError
+        A grid step differs from the mean step by more than ``UNIFORM_GRID_RTOL``.
+
+    Notes
+    -----
+    The arrays are copied and made read-only, so a profile never changes after construction.
+    """
+
+    x: NDArray[np.float64]
+    z: NDArray[np.float64]
+    metadata: Mapping[str, Any] = field(default_factory=dict)
+
+    def __init__(
+        self, x: ArrayLike, z: ArrayLike, *, metadata: Mapping[str, Any] | None = None
+    ) -> None:
+        x_arr = _as_float_vector(x, "x")
+        z_arr = _as_float_vector(z, "z")
+        if x_arr.size != z_arr.size:
+            raise ProfileShapeError(
+                f"x has {x_arr.size} points but z has {z_arr.size}; they must have the same length"
+            )
+        if x_arr.size < MIN_POINTS:
+            raise TooFewPointsError(
+                f"a profile needs at least {MIN_POINTS} points, got {x_arr.size}"
+            )
+        for name, arr in (("x", x_arr), ("z", z_arr)):
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                i = int(bad[0])
+                raise NonFiniteValueError(
+                    f"{name}[{i}] = {arr[i]!r} is not finite ({bad.size} non-finite value(s) in "
+                    f"{name}); remove or fill undefined points first"
+                )
+        steps = np.diff(x_arr)
+        bad = np.flatnonzero(steps <= 0.0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise GridNotIncreasingError(
+                f"x is not strictly increasing at index {i} (x[{i - 1}]={x_arr[i - 1]!r} µm, "
+                f"x[{i}]={x_arr[i]!r} µm); sort or deduplicate the scan first"
+            )
+        mean_step = (x_arr[-1] - x_arr[0]) / (x_arr.size - 1)
+        deviation = np.abs(steps - mean_step)
+        worst = int(np.argmax(deviation))
+        if deviation[worst] > UNIFORM_GRID_RTOL * mean_step:
+            raise GridNotUniformError(
+                f"x is not uniformly spaced: step {worst}→{worst + 1} is "
+                f"{steps[worst]!r} µm but the mean step is {mean_step!r} µm "
+                f"(relative deviation {deviation[worst] / mean_step:.3g} > {UNIFORM_GRID_RTOL:g});"
+                " resample the scan onto a uniform grid first"
+            )
+        object.__setattr__(self, "x", x_arr)
+        object.__setattr__(self, "z", z_arr)
+        object.__setattr__(self, "metadata", dict(metadata) if metadata is not None else {})
+
+    # -- derived quantities -------------------------------------------------------------------
+
+    @property
+    def n_points(self) -> int:
+        """Number of grid points."""
+        return int(self.x.size)
+
+    @property
+    def dx(self) -> float:
+        """Grid spacing [µm] (mean step)."""
+        return float((self.x[-1] - self.x[0]) / (self.x.size - 1))
+
+    @property
+    def length(self) -> float:
+        """Extent of the grid, ``x[-1] - x[0]`` [µm]."""
+        return float(self.x[-1] - self.x[0])
+
+    @property
+    def ra(self) -> float:
+        """Arithmetic mean roughness R_A = mean |z − mean(z)| [µm]."""
+        return float(np.mean(np.abs(self.z - self.z.mean())))
+
+    @property
+    def rq(self) -> float:
+        """Root-mean-square roughness R_q [µm]."""
+        return float(np.sqrt(np.mean((self.z - self.z.mean()) ** 2)))
+
+    @property
+    def rsq(self) -> float:
+        """Root-mean-square slope R_Sq [1] from grid differences (paper eq. 15)."""
+        return float(np.sqrt(np.mean((np.diff(self.z) / self.dx) ** 2)))
+
+    @property
+    def peak_to_valley(self) -> float:
+        """Peak-to-valley height max(z) − min(z) [µm]."""
+        return float(self.z.max() - self.z.min())
+
+    def __repr__(self) -> str:
+        source = self.metadata.get("source", "?")
+        return (
+            f"Profile(n_points={self.n_points}, dx={self.dx:.4g} µm, length={self.length:.4g} µm, "
+            f"ra={self.ra:.4g} µm, source={source!r})"
+        )
