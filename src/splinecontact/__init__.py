@@ -19,13 +19,24 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 from .errors import *  # noqa: E402,F403
 from .errors import __all__ as _errors_all  # noqa: E402
+from .contact import simulate  # noqa: E402
+from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair  # noqa: E402
 from .profile import Profile  # noqa: E402
 from .results import ContactRecord, SimulationResult  # noqa: E402
+from .spheres import SurfaceSpheres, surface_spheres  # noqa: E402
+from .spline import SplineFit, fit_spline  # noqa: E402
 
 __all__ = [
     "ContactRecord",
     "Profile",
     "SimulationResult",
+    "SplineFit",
+    "SurfaceSpheres",
+    "fit_spline",
+    "simulate",
+    "surface_spheres",
+    "weierstrass_mandelbrot",
+    "weierstrass_mandelbrot_pair",
     "__version__",
     *_errors_all,
 ]

@@ -1,0 +1,206 @@
+"""Smoothing cubic spline of a profile (paper eqs. 2–3).
+
+Eq. 2 minimises ``p Σ((z_i − f(x_i))/x0)² + (1 − p) x0 ∫ f''² dx``. Dividing by ``p/x0²`` gives
+the standard form ``Σ(z_i − f(x_i))² + λ ∫ f''² dx`` with
+
+.. math::  λ = \\frac{1 − p}{p} x_0^3 = \\frac{(dx/x_0)^α}{10} x_0^3 \\quad [µm^3]
+
+by eq. 3. λ is computed directly from the right-hand side: at the paper's resolution
+p = 1 − 1e−9 and forming 1 − p in floating point would lose about seven digits.
+
+The minimiser is the natural cubic spline with a knot at every grid point (Reinsch 1967). On a
+uniform grid, in grid units (x/dx), its second derivatives γ at the interior knots solve the
+symmetric positive-definite pentadiagonal Toeplitz system ``(R + λ' QᵀQ) γ = Qᵀ z`` with
+``λ' = λ/dx³``, ``R = tridiag(1/6, 2/3, 1/6)`` and ``Q`` the second-difference operator; then
+``f = z − λ' Q γ``. The banded LDLᵀ solve (a numba kernel) costs O(n).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from .errors import ParameterError
+from .profile import Profile
+
+__all__ = ["SplineFit", "fit_spline", "smoothing_parameter"]
+
+
+@dataclass(frozen=True, eq=False)
+class SplineFit:
+    """A smoothing spline evaluated on the profile grid (paper eqs. 2–3).
+
+    Attributes
+    ----------
+    x : ndarray
+        Grid [µm] (the profile's).
+    f : ndarray
+        Smoothed heights f(x_i) [µm].
+    slope : ndarray
+        f′(x_i) [1].
+    second_derivative : ndarray
+        f″(x_i) [1/µm]; zero at both ends (natural spline).
+    lam : float
+        Smoothing weight λ of ``Σ(z − f)² + λ∫f''²`` [µm³].
+    alpha : float
+        Tightness exponent α [1] of eq. 3.
+    x0 : float
+        Unit length x0 [µm] of eqs. 2–3.
+    """
+
+    x: NDArray[np.float64]
+    f: NDArray[np.float64]
+    slope: NDArray[np.float64]
+    second_derivative: NDArray[np.float64]
+    lam: float
+    alpha: float
+    x0: float
+
+    @property
+    def dx(self) -> float:
+        """Grid spacing [µm]."""
+        return float((self.x[-1] - self.x[0]) / (self.x.size - 1))
+
+    @property
+    def smoothing_length(self) -> float:
+        """λ^(1/4) [µm]: wavelengths much shorter than about 2π·λ^(1/4) are smoothed away."""
+        return float(self.lam**0.25)
+
+
+def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> float:
+    """Smoothing weight λ = (dx/x0)^α / 10 · x0³ [µm³] of eqs. 2–3.
+
+    Parameters
+    ----------
+    dx : float
+        Grid spacing [µm].
+    alpha : float, optional
+        Tightness exponent α [1] (paper: 2), > 0.
+    x0 : float, optional
+        Unit length x0 [µm] (paper: 1 µm), > 0.
+
+    Returns
+    -------
+    float
+        λ = (1 − p)/p · x0³ with p from eq. 3, computed without forming 1 − p.
+    """
+    if not (math.isfinite(alpha) and alpha > 0):
+        raise ParameterError(f"tightness exponent alpha = {alpha!r} must be > 0 (paper: 2)")
+    if not (math.isfinite(x0) and x0 > 0):
+        raise ParameterError(f"unit length x0 = {x0!r} µm must be > 0 (paper: 1 µm)")
+    if not (math.isfinite(dx) and dx > 0):
+        raise ParameterError(f"grid spacing dx = {dx!r} µm must be > 0")
+    return (dx / x0) ** alpha / 10.0 * x0**3
+
+
+@numba.njit(cache=True, nogil=True)
+def _reinsch_uniform(
+    z: NDArray[np.float64], lam_grid: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
+    """Smoothing spline on a uniform grid in grid units: return f, f′ and f″ at the knots.
+
+    Solves ``(R + λ' QᵀQ) γ = Qᵀ z`` by an LDLᵀ factorisation of the pentadiagonal Toeplitz
+    matrix (diagonals a, b, c) and forms ``f = z − λ' Q γ``.
+    """
+    n = z.size
+    m = n - 2
+    a = 2.0 / 3.0 + 6.0 * lam_grid
+    b = 1.0 / 6.0 - 4.0 * lam_grid
+    c = lam_grid
+    # The factors of a Toeplitz matrix converge to a fixed point within a few hundred rows;
+    # once two consecutive rows agree bitwise every later row is identical, so they are stored
+    # only up to that row (``last``) and reused: the result is the same to the last bit.
+    d = np.empty(m)
+    l1 = np.empty(m)
+    l2 = np.empty(m)
+    d[0] = a
+    l1[0] = 0.0
+    l2[0] = 0.0
+    last = m - 1
+    for i in range(1, m):
+        if i >= 2:
+            l2[i] = c / d[i - 2]
+            l1[i] = (b - l2[i] * l1[i - 1] * d[i - 2]) / d[i - 1]
+            d[i] = a - l1[i] * l1[i] * d[i - 1] - l2[i] * l2[i] * d[i - 2]
+            if d[i] == d[i - 1] and l1[i] == l1[i - 1] and l2[i] == l2[i - 1] and i >= 3:
+                last = i
+                break
+        else:
+            l2[i] = 0.0
+            l1[i] = b / d[0]
+            d[i] = a - l1[i] * l1[i] * d[0]
+    y = np.empty(m)
+    for i in range(m):
+        rhs = z[i] - 2.0 * z[i + 1] + z[i + 2]
+        k = min(i, last)
+        if i >= 2:
+            y[i] = rhs - l1[k] * y[i - 1] - l2[k] * y[i - 2]
+        elif i == 1:
+            y[i] = rhs - l1[k] * y[0]
+        else:
+            y[i] = rhs
+    gamma = np.zeros(n)
+    for i in range(m - 1, -1, -1):
+        value = y[i] / d[min(i, last)]
+        if i + 1 < m:
+            value -= l1[min(i + 1, last)] * gamma[i + 2]
+        if i + 2 < m:
+            value -= l2[min(i + 2, last)] * gamma[i + 3]
+        gamma[i + 1] = value
+    f = np.empty(n)
+    f[0] = z[0] - lam_grid * gamma[1]
+    f[n - 1] = z[n - 1] - lam_grid * gamma[n - 2]
+    for i in range(1, n - 1):
+        f[i] = z[i] - lam_grid * (gamma[i - 1] - 2.0 * gamma[i] + gamma[i + 1])
+    slope = np.empty(n)
+    for i in range(n - 1):
+        slope[i] = (f[i + 1] - f[i]) - (2.0 * gamma[i] + gamma[i + 1]) / 6.0
+    slope[n - 1] = (f[n - 1] - f[n - 2]) + (gamma[n - 2] + 2.0 * gamma[n - 1]) / 6.0
+    return f, slope, gamma
+
+
+def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> SplineFit:
+    """Fit the smoothing cubic spline of eqs. 2–3 to a profile.
+
+    Parameters
+    ----------
+    profile : Profile
+        Heights z [µm] on a uniform grid [µm].
+    alpha : float, optional
+        Tightness exponent α [1] of eq. 3 (paper: 2; 1.5 < α < 2.5 recommended).
+    x0 : float, optional
+        Unit length x0 [µm] of eqs. 2–3 (paper: 1 µm).
+
+    Returns
+    -------
+    SplineFit
+        f, f′ and f″ on the grid.
+
+    Raises
+    ------
+    ParameterError
+        α ≤ 0 or x0 ≤ 0.
+
+    Notes
+    -----
+    Equivalent to ``scipy.interpolate.make_smoothing_spline(x, z, lam=λ)`` (tested to 1e−8
+    relative in f″), but O(n) in a compiled kernel instead of a Python loop.
+    """
+    dx = profile.dx
+    lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
+    f, slope, gamma = _reinsch_uniform(profile.z, lam / dx**3)
+    for array in (f, slope, gamma):
+        array.setflags(write=False)
+    return SplineFit(
+        x=profile.x,
+        f=f,
+        slope=slope / dx,
+        second_derivative=gamma / dx**2,
+        lam=lam,
+        alpha=float(alpha),
+        x0=float(x0),
+    )
