@@ -1,9 +1,88 @@
-"""Commands of this group (placeholder: filled in by the issue that owns it)."""
+"""``splinecontact study``: run ensembles of simulations from a TOML study file, export them."""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Annotated
+
 import typer
+
+from ._common import fail, handle_errors
+
+__all__ = ["register"]
+
+study_app = typer.Typer(
+    name="study",
+    help="Ensembles over parameters × realizations (parallel, resumable, on Dask).",
+    no_args_is_help=True,
+)
+
+
+@study_app.command("run")
+@handle_errors
+def run(
+    study_file: Annotated[Path, typer.Argument(help="Study file (TOML).")],
+    out: Annotated[Path, typer.Option("-o", "--out", help="Zarr store to write (a directory).")],
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", min=1, help="Local worker processes [default: cores available]."),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Address of a Dask distributed scheduler, e.g. tcp://10.0.0.1:8786.",
+        ),
+    ] = None,
+    batch_size: Annotated[
+        int | None,
+        typer.Option("--batch-size", min=1, help="Realizations per task [default: automatic]."),
+    ] = None,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar, no summary.")
+    ] = False,
+    overwrite: Annotated[
+        bool,
+        typer.Option("--overwrite", help="Discard an existing store of a different study."),
+    ] = False,
+) -> None:
+    """Run a study, or continue it where it stopped (same command, same store).
+
+    Exit status: 0 when every realization has run (failed realizations are results, listed
+    in the summary and recorded in the store), 1 on an error, 130 when interrupted.
+    """
+    from ..study import run_study
+
+    try:
+        run_study(
+            study_file,
+            out,
+            workers=workers,
+            scheduler=scheduler,
+            batch_size=batch_size,
+            progress=not quiet,
+            overwrite=overwrite,
+        )
+    except KeyboardInterrupt:
+        raise fail(
+            f"interrupted; everything finished is stored in {out}: run the same command "
+            "again to continue",
+            code=130,
+        ) from None
+
+
+@study_app.command("export")
+@handle_errors
+def export(
+    store: Annotated[Path, typer.Argument(help="Study store written by `study run`.")],
+    netcdf: Annotated[Path, typer.Option("--netcdf", help="netCDF-4 file to write.")],
+) -> None:
+    """Write a study store as one netCDF-4 file."""
+    from ..study import export_netcdf
+
+    export_netcdf(store, netcdf)
 
 
 def register(app: typer.Typer) -> None:
-    """Add this module's commands to ``app``."""
+    """Add the ``study`` command group to ``app``."""
+    app.add_typer(study_app, name="study")

@@ -1,0 +1,151 @@
+"""Study files: validation, one-line errors naming the key, resolved TOML."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from splinecontact.config import PARAMETERS, StudyConfig, load_study, parse_study
+from splinecontact.errors import StudyConfigError
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+BASE = {"study": {"name": "t", "seed": 7, "realizations": 3}}
+
+
+def study(**sections: object) -> dict[str, object]:
+    return {**BASE, **sections}
+
+
+def error_of(data: dict[str, object]) -> str:
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(data, source="x.toml")
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith("study file x.toml: ")
+    return message.removeprefix("study file x.toml: ")
+
+
+@pytest.mark.parametrize(
+    ("data", "expected"),
+    [
+        (study(sweep={"dimension": [1.2, 1.5, 2.5]}), "sweep.dimension[2] = 2.5: must be ≤ 2"),
+        (study(fixed={"dimension": 0.5}), "fixed.dimension = 0.5: must be ≥ 1"),
+        (
+            {"study": {"name": "t", "seed": 7, "realizations": -3}, "fixed": {"dimension": 1.5}},
+            "study.realizations = -3: must be ≥ 1",
+        ),
+        (
+            {"study": {"name": "t", "seed": 7, "realizations": 0}, "fixed": {"dimension": 1.5}},
+            "study.realizations = 0: must be ≥ 1",
+        ),
+        (study(sweeep={"dimension": [1.2]}), "sweeep: unknown section; allowed: study, fixed"),
+        (study(fixed={"dimension": 1.5, "e_sta": 3.0}), "fixed.e_sta = 3.0: unknown key"),
+        (study(fixed={"dimension": 1.5, "alpha": 0.0}), "fixed.alpha = 0.0: must be > 0"),
+        (study(fixed={"dimension": 1.5, "e_star": -10.0}), "fixed.e_star = -10.0: must be > 0"),
+        (study(fixed={"dimension": 1.5, "steps": 0}), "fixed.steps = 0: must be ≥ 1"),
+        (study(fixed={"dimension": 1.5, "n_points": 1e6}), "fixed.n_points = 1000000.0: must be"),
+        (study(fixed={"dimension": "1.5"}), 'fixed.dimension = "1.5": must be a number'),
+        (study(fixed={"dimension": 1.5, "g_star": -1.0}), "fixed.g_star = -1.0: must be > 0"),
+        (
+            study(fixed={"dimension": 1.5, "contact_type": "flat"}),
+            "fixed.contact_type = \"flat\": must be one of 'rough-on-rough' or 'rough-on-flat'",
+        ),
+        (
+            study(sweep={"contact_type": ["rough-on-flat", "rough"], "dimension": [1.5]}),
+            'sweep.contact_type[1] = "rough": must be one of',
+        ),
+        (study(sweep={"dimension": 1.5}), "sweep.dimension = 1.5: must be a list"),
+        (study(sweep={"dimension": []}), "sweep.dimension = []: must not be empty"),
+        (study(sweep={"dimension": [1.2, 1.2]}), "sweep.dimension[1] = 1.2: duplicate value"),
+        (
+            study(fixed={"dimension": 1.5}, sweep={"dimension": [1.2]}),
+            "fixed.dimension: also given in [sweep]",
+        ),
+        (study(), "fixed.dimension: required"),
+        ({"fixed": {"dimension": 1.5}}, "study: required key is missing"),
+        (study(fixed={"dimension": 1.5}, output={"batch_size": 0}), "output.batch_size = 0"),
+        (study(fixed={"dimension": 1.5}, output={"bach_size": 2}), "output.bach_size = 2: unknown"),
+        ({"study": {"name": "t", "seed": -1, "realizations": 3}}, "study.seed = -1: must be ≥ 0"),
+    ],
+)
+def test_invalid_study_names_key_and_reason(data: dict[str, object], expected: str) -> None:
+    assert error_of(data).startswith(expected)
+
+
+def test_several_errors_are_reported_as_one_line_with_a_count() -> None:
+    message = error_of(study(fixed={"dimension": 3.0, "alpha": -1.0}))
+    assert message.endswith("(and 1 more)")
+
+
+def test_sweep_order_follows_the_file_and_grid_is_the_product() -> None:
+    cfg = parse_study(
+        study(
+            fixed={"e_star": 20},
+            sweep={"contact_type": ["rough-on-flat", "rough-on-rough"], "dimension": [1.2, 1.5]},
+        )
+    )
+    assert cfg.swept_names == ("contact_type", "dimension")
+    assert cfg.grid_shape == (2, 2)
+    assert list(cfg.grid_indices()) == [(0, 0), (0, 1), (1, 0), (1, 1)]
+    params = cfg.parameters_at((1, 0))
+    assert params["contact_type"] == "rough-on-rough"
+    assert params["dimension"] == 1.2
+    assert params["e_star"] == 20.0  # an int in TOML is accepted as a float
+    assert isinstance(params["e_star"], float)
+    assert set(params) == set(PARAMETERS)
+    # Unset parameters take the documented defaults.
+    assert params["alpha"] == PARAMETERS["alpha"].default == 2.0
+    assert params["g_star"] is None
+
+
+def test_resolved_toml_round_trips_with_defaults_filled_in() -> None:
+    cfg = parse_study(study(sweep={"alpha": [1.5, 2.5], "dimension": [1.1, 1.9]}))
+    text = cfg.to_toml()
+    data = tomllib.loads(text)
+    assert data["fixed"]["n_points"] == 1_000_000
+    assert "g_star" not in data["fixed"]  # engine default: absent
+    assert list(data["sweep"]) == ["alpha", "dimension"]
+    again = parse_study(data)
+    assert again.identity() == cfg.identity()
+    assert again.swept_names == cfg.swept_names
+    assert again.to_toml() == text
+
+
+def test_model_is_frozen_and_picklable() -> None:
+    import pickle
+
+    cfg = parse_study(study(sweep={"dimension": [1.2, 1.5]}))
+    copy = pickle.loads(pickle.dumps(cfg))
+    assert copy.swept == cfg.swept
+    assert isinstance(copy, StudyConfig)
+
+
+def test_load_study_file_errors(tmp_path: Path) -> None:
+    with pytest.raises(StudyConfigError, match="no such file"):
+        load_study(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[study\nname=", encoding="utf-8")
+    with pytest.raises(StudyConfigError, match="not valid TOML"):
+        load_study(bad)
+
+
+@pytest.mark.parametrize("name", ["paper-study.toml", "quick-study.toml"])
+def test_shipped_examples_are_valid(name: str) -> None:
+    cfg = load_study(EXAMPLES / name)
+    assert cfg.sweep.dimension is not None  # type: ignore[attr-defined]
+
+
+def test_paper_study_is_the_papers_design() -> None:
+    cfg = load_study(EXAMPLES / "paper-study.toml")
+    swept = dict(cfg.swept)
+    assert swept["dimension"] == pytest.approx([1.0 + 0.1 * i for i in range(10)])
+    assert set(swept["contact_type"]) == {"rough-on-rough", "rough-on-flat"}
+    assert cfg.study.realizations == 200
+    fixed = cfg.fixed_parameters
+    assert fixed["n_points"] == 1_000_000
+    assert fixed["steps"] == 1000
+    assert fixed["e_star"] == 10.0
+    assert fixed["final_displacement_factor"] == 0.2
