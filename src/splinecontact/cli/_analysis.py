@@ -1,9 +1,112 @@
-"""Commands of this group (placeholder: filled in by the issue that owns it)."""
+"""``splinecontact plot`` and ``splinecontact reproduce``: the paper's figures and findings."""
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+from typing import Annotated, Literal
+
 import typer
+
+from ._common import fail, handle_errors
+
+__all__ = ["register"]
+
+
+@handle_errors
+def plot(
+    store: Annotated[Path, typer.Argument(help="Study store (the -o of `study run`).")],
+    out_dir: Annotated[
+        Path, typer.Option("-o", "--out", help="Directory for the figures (PNG and SVG).")
+    ] = Path("figures"),
+    rsq_method: Annotated[
+        str,
+        typer.Option(
+            "--rsq-method", help="R_Sq of κ: 'grid' (eq. 15 grid differences) or 'spline' (f′)."
+        ),
+    ] = "grid",
+    fit_fraction: Annotated[
+        float,
+        typer.Option(
+            "--fit-fraction",
+            help="κ fit range: F_N ≤ this × the final load (0 < value ≤ 1).",
+        ),
+    ] = 0.3,
+    illustrative: Annotated[
+        bool,
+        typer.Option(
+            "--illustrative/--no-illustrative",
+            help="Also draw Figs. 3a, 4, 5, 8, 9 from regenerated profiles.",
+        ),
+    ] = True,
+) -> None:
+    """Draw every figure of the paper (Figs. 3a, 4, 5, 8–12) from a study store."""
+    from ..plotting import make_figures
+    from ..study import open_study
+
+    if rsq_method not in ("grid", "spline"):
+        raise fail(f"--rsq-method must be 'grid' or 'spline', got {rsq_method!r}")
+    ds = open_study(store)
+    written, _ = make_figures(
+        ds,
+        out_dir,
+        illustrative=illustrative,
+        kappa_options={"rsq_method": rsq_method, "fit_fraction": fit_fraction},
+    )
+    n = sum(len(v) for v in written.values())
+    typer.echo(f"wrote {len(written)} figures ({n} files) to {out_dir}")
+
+
+@handle_errors
+def reproduce(
+    scale: Annotated[
+        str,
+        typer.Option(
+            "--scale",
+            help="quick: D 1.1–1.9, both contact types, 10⁶ points, 1000 steps, 20 realizations "
+            "(minutes); paper: D 1.0–1.9, 200 realizations (hours); tiny: a smoke test.",
+        ),
+    ] = "quick",
+    out_dir: Annotated[
+        Path | None,
+        typer.Option("-o", "--out", help="Output directory [default: reproduce-SCALE]."),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", min=1, help="Worker processes [default: cores available]."),
+    ] = None,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar; only the final lines.")
+    ] = False,
+) -> None:
+    """Run the paper's study, draw every figure and write report.md checking its findings.
+
+    Writes OUT/study.toml, OUT/study.zarr, OUT/figures/*.png|svg, OUT/findings.json and
+    OUT/report.md. Running the same command again continues an interrupted study.
+    """
+    from ..reproduce import SCALES
+    from ..reproduce import reproduce as run
+
+    if scale not in SCALES:
+        raise fail(f"--scale must be one of {', '.join(SCALES)}, got {scale!r}")
+    scale_lit: Literal["tiny", "quick", "paper"] = scale  # type: ignore[assignment]
+    out = out_dir if out_dir is not None else Path(f"reproduce-{scale}")
+    result = run(
+        out,
+        scale=scale_lit,
+        workers=workers,
+        progress=not quiet,
+        command="splinecontact " + " ".join(sys.argv[1:]) if sys.argv[1:] else "",
+    )
+    for f in result.findings:
+        typer.echo(f"({f.key}) {f.verdict}: {f.summary}")
+    typer.echo(
+        f"report: {result.report}  (study {result.study_time:.1f} s, total "
+        f"{result.wall_time:.1f} s)"
+    )
 
 
 def register(app: typer.Typer) -> None:
-    """Add this module's commands to ``app``."""
+    """Add the ``plot`` and ``reproduce`` commands to ``app``."""
+    app.command("plot")(plot)
+    app.command("reproduce")(reproduce)
