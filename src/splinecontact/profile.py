@@ -97,7 +97,7 @@ class Profile:
             if bad.size:
                 i = int(bad[0])
                 raise NonFiniteValueError(
-                    f"{name}[{i}] = {arr[i]!r} is not finite ({bad.size} non-finite value(s) in "
+                    f"{name}[{i}] = {float(arr[i])!r} is not finite ({bad.size} non-finite value(s) in "
                     f"{name}); remove or fill undefined points first"
                 )
         steps = np.diff(x_arr)
@@ -105,8 +105,8 @@ class Profile:
         if bad.size:
             i = int(bad[0]) + 1
             raise GridNotIncreasingError(
-                f"x is not strictly increasing at index {i} (x[{i - 1}]={x_arr[i - 1]!r} µm, "
-                f"x[{i}]={x_arr[i]!r} µm); sort or deduplicate the scan first"
+                f"x is not strictly increasing at index {i} (x[{i - 1}]={float(x_arr[i - 1])!r} µm, "
+                f"x[{i}]={float(x_arr[i])!r} µm); sort or deduplicate the scan first"
             )
         mean_step = (x_arr[-1] - x_arr[0]) / (x_arr.size - 1)
         deviation = np.abs(steps - mean_step)
@@ -114,7 +114,7 @@ class Profile:
         if deviation[worst] > UNIFORM_GRID_RTOL * mean_step:
             raise GridNotUniformError(
                 f"x is not uniformly spaced: step {worst}→{worst + 1} is "
-                f"{steps[worst]!r} µm but the mean step is {mean_step!r} µm "
+                f"{float(steps[worst])!r} µm but the mean step is {float(mean_step)!r} µm "
                 f"(relative deviation {deviation[worst] / mean_step:.3g} > {UNIFORM_GRID_RTOL:g});"
                 " resample the scan onto a uniform grid first"
             )

@@ -1,0 +1,126 @@
+"""Weierstrass–Mandelbrot generator (eq. 1; issue 2, item 3)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from splinecontact import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
+from splinecontact.errors import ParameterError
+from splinecontact.spectra import hurst_exponent
+
+
+def _direct_sum(dimension: float, x: np.ndarray, seed: int, law: str = "hurst") -> np.ndarray:
+    """Eq. 1 summed term by term (the obviously-correct reference)."""
+    gamma, directions, n_max, wavelength = 1.5, 20, 20, 1.0
+    phases = np.random.default_rng(seed).uniform(0, 2 * np.pi, size=(directions, n_max + 1))
+    exponent = (dimension - 2) * (1 if law == "hurst" else 2)
+    nyquist = 0.5 / (x[1] - x[0])
+    z = np.zeros_like(x)
+    for m in range(1, directions + 1):
+        for n in range(n_max + 1):
+            frequency = gamma**n * math.cos(math.pi * m / directions) / wavelength
+            if abs(frequency) > nyquist:
+                continue
+            phi = phases[m - 1, n]
+            z += gamma ** (exponent * n) * (math.cos(phi) - np.cos(2 * np.pi * frequency * x + phi))
+    z -= z.mean()
+    return z * 0.005 / np.mean(np.abs(z))
+
+
+@pytest.mark.parametrize("law", ["hurst", "as_printed"])
+def test_matches_direct_summation_of_eq1(law: str) -> None:
+    p = weierstrass_mandelbrot(1.4, n_points=30_001, length=3.0, seed=11, amplitude_law=law)
+    reference = _direct_sum(1.4, p.x, 11, law)
+    assert np.max(np.abs(p.z - reference)) < 1e-9 * 0.005
+
+
+def test_same_seed_is_bit_identical_and_different_seeds_differ() -> None:
+    a = weierstrass_mandelbrot(1.5, n_points=50_000, length=5.0, seed=3)
+    b = weierstrass_mandelbrot(1.5, n_points=50_000, length=5.0, seed=3)
+    c = weierstrass_mandelbrot(1.5, n_points=50_000, length=5.0, seed=4)
+    assert np.array_equal(a.z, b.z)
+    assert not np.array_equal(a.z, c.z)
+
+
+def test_seed_sequence_and_generator_inputs() -> None:
+    ss = np.random.SeedSequence(5)
+    a = weierstrass_mandelbrot(1.5, n_points=2_000, length=0.2, seed=ss)
+    b = weierstrass_mandelbrot(1.5, n_points=2_000, length=0.2, seed=np.random.SeedSequence(5))
+    assert np.array_equal(a.z, b.z)
+    g = weierstrass_mandelbrot(1.5, n_points=2_000, length=0.2, seed=np.random.default_rng(5))
+    assert np.isfinite(g.z).all()
+
+
+@pytest.mark.parametrize("dimension", [1.0, 1.3, 1.7, 2.0])
+def test_ra_equals_target(dimension: float) -> None:
+    p = weierstrass_mandelbrot(dimension, n_points=100_000, length=10.0, ra=0.0123, seed=1)
+    assert abs(p.ra - 0.0123) <= 1e-12 * 0.0123
+    assert abs(p.z.mean()) < 1e-15
+
+
+def test_pair_uses_independent_reproducible_phases() -> None:
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=8, n_points=5_000, length=0.5)
+    lower2, upper2 = weierstrass_mandelbrot_pair(1.5, seed=8, n_points=5_000, length=0.5)
+    assert np.array_equal(lower.z, lower2.z) and np.array_equal(upper.z, upper2.z)
+    assert not np.array_equal(lower.z, upper.z)
+    assert lower.metadata["seed_spawn_key"] == [0]
+    assert upper.metadata["seed_spawn_key"] == [1]
+
+
+def test_terms_above_nyquist_are_dropped_and_counted() -> None:
+    fine = weierstrass_mandelbrot(1.5, n_points=1_000_001, length=100.0, seed=1)
+    coarse = weierstrass_mandelbrot(1.5, n_points=10_001, length=100.0, seed=1)
+    assert fine.metadata["n_terms_dropped_above_nyquist"] == 0
+    # Nyquist 50/µm: terms with 1.5^n |cos(πm/20)| > 50 are dropped.
+    expected = sum(
+        1
+        for m in range(1, 21)
+        for n in range(21)
+        if 2 * m != 20 and 1.5**n * abs(math.cos(math.pi * m / 20)) > 50.0
+    )
+    assert coarse.metadata["n_terms_dropped_above_nyquist"] == expected > 0
+    assert fine.metadata["n_terms"] == 20 * 21
+
+
+@pytest.mark.parametrize("dimension", [1.2, 1.5, 1.8])
+def test_psd_slope_gives_hurst_two_minus_d(dimension: float) -> None:
+    measured = np.mean(
+        [hurst_exponent(weierstrass_mandelbrot(dimension, seed=s)) for s in range(3)]
+    )
+    assert abs(measured - (2.0 - dimension)) < 0.1
+
+
+def test_printed_amplitude_law_doubles_the_hurst_exponent() -> None:
+    measured = np.mean(
+        [
+            hurst_exponent(weierstrass_mandelbrot(1.7, seed=s, amplitude_law="as_printed"))
+            for s in range(3)
+        ]
+    )
+    assert abs(measured - 2.0 * (2.0 - 1.7)) < 0.1
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"dimension": 2.5}, "outside"),
+        ({"dimension": 0.9}, "outside"),
+        ({"dimension": float("nan")}, "not finite"),
+        ({"dimension": 1.5, "n_points": 4}, "n_points"),
+        ({"dimension": 1.5, "length": -1.0}, "length"),
+        ({"dimension": 1.5, "gamma": 1.0}, "gamma"),
+        ({"dimension": 1.5, "ra": 0.0}, "ra"),
+        ({"dimension": 1.5, "directions": 0}, "directions"),
+        ({"dimension": 1.5, "n_max": -1}, "n_max"),
+        ({"dimension": 1.5, "amplitude_law": "printed"}, "amplitude_law"),
+        ({"dimension": 1.5, "wavelength": 0.0}, "wavelength"),
+    ],
+)
+def test_bad_parameters_raise(kwargs: dict, fragment: str) -> None:
+    dimension = kwargs.pop("dimension")
+    kwargs.setdefault("n_points", 1000)
+    with pytest.raises(ParameterError, match=fragment):
+        weierstrass_mandelbrot(dimension, **kwargs)
