@@ -80,7 +80,9 @@ def reference_simulate(
                 k_l = min(max(k_l, -1 / r_min), 1 / r_min)
                 k_u = min(max(k_u, -1 / r_min), 1 / r_min)
                 n_l = np.array([-s_l[i], 1.0]) / math.sqrt(1 + s_l[i] ** 2)
-                n_u = np.array([-s_u[i], -1.0]) / math.sqrt(1 + s_u[i] ** 2)  # global, pointing down
+                n_u = np.array([-s_u[i], -1.0]) / math.sqrt(
+                    1 + s_u[i] ** 2
+                )  # global, pointing down
                 if formulation == "curvature":
                     if k_l + k_u > 0:
                         delta, off, e, r_eff = _curvature_form(k_l, k_u, gap, -n_u, n_l)

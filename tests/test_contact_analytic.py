@@ -10,16 +10,17 @@ import math
 
 import numpy as np
 import pytest
-from conftest import ANGSTROM, circle_cap, circle_cup
 
 from splinecontact import Profile, simulate
 from splinecontact.contact import contact_geometry
+
+from conftest import ANGSTROM, circle_cap, circle_cup
 
 E_STAR = 10.0
 
 
 def _grid(half_width: float) -> np.ndarray:
-    n = int(round(half_width / ANGSTROM))
+    n = round(half_width / ANGSTROM)
     return np.arange(-n, n + 1) * ANGSTROM
 
 
@@ -54,8 +55,9 @@ def test_ball_in_lower_cup(r_ball: float, r_cup: float) -> None:
     x = _grid(0.05)
     lower = Profile(x, circle_cup(x, r_cup))  # concave lower body
     upper = Profile(x, circle_cap(x, r_ball))  # convex ball pointing down into it
-    result = simulate(lower, upper, steps=20, final_displacement=1e-3 * r_ball,
-                      record_contacts="all")
+    result = simulate(
+        lower, upper, steps=20, final_displacement=1e-3 * r_ball, record_contacts="all"
+    )
     _check_single_hertz_contact(result, 2 * r_ball * r_cup / (r_cup - r_ball))
 
 
@@ -64,8 +66,9 @@ def test_peak_in_upper_cup(r_peak: float, r_cup: float) -> None:
     x = _grid(0.05)
     lower = Profile(x, circle_cap(x, r_peak))
     upper = Profile(x, circle_cup(x, r_cup))  # the upper body's surface is a cup over the peak
-    result = simulate(lower, upper, steps=20, final_displacement=1e-3 * r_peak,
-                      record_contacts="all")
+    result = simulate(
+        lower, upper, steps=20, final_displacement=1e-3 * r_peak, record_contacts="all"
+    )
     _check_single_hertz_contact(result, 2 * r_peak * r_cup / (r_cup - r_peak))
 
 
@@ -73,8 +76,9 @@ def test_peak_in_upper_cup(r_peak: float, r_cup: float) -> None:
 def test_circle_against_rigid_flat(radius: float) -> None:
     x = _grid(0.05)
     lower = Profile(x, circle_cap(x, radius))
-    result = simulate(lower, "flat", steps=20, final_displacement=1e-3 * radius,
-                      record_contacts="all")
+    result = simulate(
+        lower, "flat", steps=20, final_displacement=1e-3 * radius, record_contacts="all"
+    )
     _check_single_hertz_contact(result, 2 * radius)  # sphere on plane: R_eff = 2R (eq. 10)
 
 
@@ -94,8 +98,13 @@ def test_concave_concave_and_wide_cup_are_rejected() -> None:
     cup_narrow = Profile(x, circle_cup(x, 1.0))
     for lower, upper in ((cup_narrow, ball_wide), (cup_narrow, cup_narrow)):
         geometry, _ = contact_geometry(
-            lower, upper, steps=5, final_displacement=1e-4, final_displacement_factor=0.2,
-            alpha=2.0, x0=1.0,
+            lower,
+            upper,
+            steps=5,
+            final_displacement=1e-4,
+            final_displacement_factor=0.2,
+            alpha=2.0,
+            x0=1.0,
         )
         assert geometry.point.size > 0  # gaps do close (at the rims) ...
         # ... but κ^u + κ^l ≤ 0 there (0 only at the spline's natural ends): Table 1 rejects.

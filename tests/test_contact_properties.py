@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
-from conftest import ANGSTROM, circle_cap, circle_cup
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from splinecontact import Profile, simulate, weierstrass_mandelbrot_pair
+
+from conftest import ANGSTROM, circle_cap, circle_cup
 
 radii = st.floats(min_value=0.1, max_value=10.0)
 

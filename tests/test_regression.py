@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent / "regression"))
-from make_regression import CASES, compute  # noqa: E402
+from make_regression import CASES, compute
 
 STORED = np.load(Path(__file__).parent / "regression" / "sad_curves.npz")
 

@@ -17,14 +17,14 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0+unknown"
 
-from .errors import *  # noqa: E402,F403
-from .errors import __all__ as _errors_all  # noqa: E402
-from .contact import simulate  # noqa: E402
-from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair  # noqa: E402
-from .profile import Profile  # noqa: E402
-from .results import ContactRecord, SimulationResult  # noqa: E402
-from .spheres import SurfaceSpheres, surface_spheres  # noqa: E402
-from .spline import SplineFit, fit_spline  # noqa: E402
+from .contact import simulate
+from .errors import *  # noqa: F403
+from .errors import __all__ as _errors_all
+from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
+from .profile import Profile
+from .results import ContactRecord, SimulationResult
+from .spheres import SurfaceSpheres, surface_spheres
+from .spline import SplineFit, fit_spline
 
 __all__ = [
     "ContactRecord",

@@ -179,8 +179,9 @@ def _loading_kernel(
                 if y_norm > 0.0:
                     dmx = m_x - n_x
                     dmz = m_z - n_z
-                    delta = (dmx * dmx + dmz * dmz - k_prod * g * g
-                             - 2.0 * g * (k_l * m_z + k_u * n_z)) / (y_norm + k_sum)
+                    delta = (
+                        dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
+                    ) / (y_norm + k_sum)
                     if delta > 0.0:
                         offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
                         if -half_dx <= offset < half_dx:  # eq. 9
@@ -237,9 +238,22 @@ def _loading_kernel(
         out_fn_tangential[step] = sum_fn_tangential
         out_tilted[step] = tilted
     return (
-        out_fn, out_ft, out_area, out_count, out_fn_normal, out_fn_tangential, out_tilted,
-        rec_step[:n_rec], rec_index[:n_rec], rec_offset[:n_rec], rec_offset_z[:n_rec],
-        rec_delta[:n_rec], rec_reff[:n_rec], rec_fn[:n_rec], rec_ft[:n_rec], rec_ex[:n_rec],
+        out_fn,
+        out_ft,
+        out_area,
+        out_count,
+        out_fn_normal,
+        out_fn_tangential,
+        out_tilted,
+        rec_step[:n_rec],
+        rec_index[:n_rec],
+        rec_offset[:n_rec],
+        rec_offset_z[:n_rec],
+        rec_delta[:n_rec],
+        rec_reff[:n_rec],
+        rec_fn[:n_rec],
+        rec_ft[:n_rec],
+        rec_ex[:n_rec],
         rec_ez[:n_rec],
     )
 
@@ -544,8 +558,10 @@ def simulate(
         raise ParameterError(f"steps = {steps!r} must be an integer ≥ 1 (paper: 1000)")
     steps = int(steps)
     e_star = _check_positive("e_star", e_star, " GPa")
-    g_star = e_star / 2.6 if g_star is None else _check_positive(
-        "g_star", g_star, " GPa", allow_zero=True
+    g_star = (
+        e_star / 2.6
+        if g_star is None
+        else _check_positive("g_star", g_star, " GPa", allow_zero=True)
     )
     mu0 = _check_positive("mu0", mu0, "", allow_zero=True)
     _check_positive("alpha", alpha, "")

@@ -260,7 +260,11 @@ def weierstrass_mandelbrot(
     coeff = np.asarray(amps, dtype=np.complex128)
     if omega.size:
         oscillating = _sum_cosines(
-            n_points, dx, omega, np.ascontiguousarray(coeff.real), np.ascontiguousarray(coeff.imag),
+            n_points,
+            dx,
+            omega,
+            np.ascontiguousarray(coeff.real),
+            np.ascontiguousarray(coeff.imag),
             _BLOCK,
         )
     else:

@@ -97,16 +97,17 @@ class Profile:
             if bad.size:
                 i = int(bad[0])
                 raise NonFiniteValueError(
-                    f"{name}[{i}] = {float(arr[i])!r} is not finite ({bad.size} non-finite value(s) in "
-                    f"{name}); remove or fill undefined points first"
+                    f"{name}[{i}] = {float(arr[i])!r} is not finite ({bad.size} non-finite "
+                    f"value(s) in {name}); remove or fill undefined points first"
                 )
         steps = np.diff(x_arr)
         bad = np.flatnonzero(steps <= 0.0)
         if bad.size:
             i = int(bad[0]) + 1
             raise GridNotIncreasingError(
-                f"x is not strictly increasing at index {i} (x[{i - 1}]={float(x_arr[i - 1])!r} µm, "
-                f"x[{i}]={float(x_arr[i])!r} µm); sort or deduplicate the scan first"
+                f"x is not strictly increasing at index {i} "
+                f"(x[{i - 1}]={float(x_arr[i - 1])!r} µm, x[{i}]={float(x_arr[i])!r} µm); "
+                "sort or deduplicate the scan first"
             )
         mean_step = (x_arr[-1] - x_arr[0]) / (x_arr.size - 1)
         deviation = np.abs(steps - mean_step)

@@ -209,8 +209,8 @@ class SimulationResult:
                 )
         attrs: dict[str, Any] = {}
         for key, value in self.parameters.items():
-            attrs[key] = value if isinstance(value, int | float | str) else json.dumps(
-                _jsonable(value)
+            attrs[key] = (
+                value if isinstance(value, int | float | str) else json.dumps(_jsonable(value))
             )
         attrs["lower_metadata"] = json.dumps(_jsonable(self.lower_metadata))
         attrs["upper_metadata"] = json.dumps(_jsonable(self.upper_metadata))
@@ -220,7 +220,9 @@ class SimulationResult:
         from . import __version__
 
         attrs["splinecontact_version"] = __version__
-        return xr.Dataset(data_vars, coords={"step": ("step", steps)}, attrs=attrs)
+        step_attrs = {"units": "1", "long_name": "loading step (0 = first contact)"}
+        coords = {"step": ("step", steps, step_attrs)}
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
     def to_netcdf(self, path: str | Path) -> Path:
         """Write :meth:`to_xarray` to a netCDF-4 file (h5netcdf engine) and return its path."""

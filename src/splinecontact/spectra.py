@@ -41,7 +41,7 @@ def power_spectrum(profile: Profile) -> tuple[NDArray[np.float64], NDArray[np.fl
     norm = profile.dx / float(np.sum(window * window))
     psd = 2.0 * norm * np.abs(spectrum) ** 2
     frequency = np.fft.rfftfreq(n, d=profile.dx)
-    return frequency[1:], psd[1:]
+    return np.asarray(frequency[1:], dtype=np.float64), np.asarray(psd[1:], dtype=np.float64)
 
 
 def binned_power(
@@ -67,14 +67,14 @@ def binned_power(
     df = frequency[1] - frequency[0] if frequency.size > 1 else frequency[0]
     lo = math.log10(frequency[0])
     hi = math.log10(frequency[-1])
-    n_bins = max(1, int(math.ceil((hi - lo) * bins_per_decade)))
+    n_bins = max(1, math.ceil((hi - lo) * bins_per_decade))
     edges = np.logspace(lo, hi, n_bins + 1)
     edges[-1] *= 1.0 + 1e-12
     index = np.clip(np.searchsorted(edges, frequency, side="right") - 1, 0, n_bins - 1)
     power = np.bincount(index, weights=psd * df, minlength=n_bins)[:n_bins]
     centre = np.sqrt(edges[:-1] * edges[1:])
     keep = power > 0
-    return centre[keep], power[keep]
+    return np.asarray(centre[keep], dtype=np.float64), np.asarray(power[keep], dtype=np.float64)
 
 
 def _default_band(profile: Profile) -> tuple[float, float]:
