@@ -108,8 +108,10 @@ class RawProfile:
         1-based line number in the source file of each point (text formats), used in error
         messages. ``None`` for binary formats (messages then give the index only).
     x_resolution : float, optional
-        Resolution [µm] with which the positions were written (for text: one unit of the last
-        printed decimal). ``0`` when the positions are exact (binary formats).
+        Resolution [µm] with which the positions were written: for text, one unit of the last
+        printed decimal, the finest over all non-zero positions (``4`` next to ``4.5`` was
+        printed without trailing zeros, so the resolution is 0.1). ``0`` when the positions
+        are exact (binary formats).
     metadata : mapping, optional
         Provenance: ``source`` (file), ``format``, units and conversions, instrument data.
     """

@@ -146,7 +146,7 @@ def detect_format(path: str | os.PathLike[str]) -> str:
         "x3p": "an X3P archive",
         "npz": "a NumPy .npz archive",
         "npy": "a NumPy .npy array",
-        "zip": "a zip archive",
+        "zip": "a zip archive without main.xml (not X3P)",
         "binary": "binary data",
         "text": "text",
     }

@@ -72,8 +72,11 @@ def _is_comment(stripped: str) -> bool:
 
 
 def _delimiter_of(line: str) -> str | None:
+    """Semicolon, else white space if the line has a tab, else comma, else white space."""
     if ";" in line:
         return ";"
+    if "\t" in line:
+        return None
     if "," in line:
         return ","
     return None
@@ -154,7 +157,7 @@ class _Table:
     delimiter: str | None
     header: list[tuple[int, str]]  # (line number, text) of the header block
     comments: list[str]
-    column_resolution: list[float]  # printed resolution of each column (file units)
+    column_resolution: list[float]  # finest printed step of each column (file units; 0: none)
 
 
 def _parse_table(
@@ -224,8 +227,9 @@ def _parse_table(
                     "remove this row"
                 )
             row.append(value)
-            if value == value:  # not NaN
-                resolution[c] = max(resolution[c], _resolution(token))
+            if value == value and value != 0.0:  # finest printed step of non-zero numbers
+                step = _resolution(token)
+                resolution[c] = step if resolution[c] == 0.0 else min(resolution[c], step)
         values.append(row)
         rows.append(line_no)
 
