@@ -66,7 +66,7 @@ def test_hfm_stylus_scan() -> None:
 
 def test_xy_line_scan_needs_units_and_regularises_printed_grid() -> None:
     """xy-4: 10 001 rows, no header; x printed with 6 decimals (steps 0.000099/0.000100)."""
-    with pytest.raises(MissingUnitsError, match="xy-4.txt"):
+    with pytest.raises(MissingUnitsError, match=r"xy-4\.txt"):
         read_profile(DATA / "xy-4.txt")
     p = read_profile(DATA / "xy-4.txt", unit="um")  # SurfaceTopography's own tests read it as µm
     assert p.n_points == 10001
@@ -103,7 +103,9 @@ def test_x3p_areal_row() -> None:
     }
     assert p.metadata["instrument"]["Manufacturer"] == "DIGITAL SURF"
     last = read_profile(DATA / "x3p-2.x3p", line=649)
-    assert last.metadata["line_y_um"] == pytest.approx((1.29451679506934e-5 + 649 * 3.14582113527746e-7) * 1e6)
+    assert last.metadata["line_y_um"] == pytest.approx(
+        (1.29451679506934e-5 + 649 * 3.14582113527746e-7) * 1e6
+    )
     with pytest.raises(LineSelectionError, match="line=650"):
         read_profile(DATA / "x3p-2.x3p", line=650)
     # the row is the x-fastest block of the binary data
@@ -244,7 +246,9 @@ def test_stylus_validity_flags() -> None:
     raw = read_raw(DATA / "stylus-invalid.hfm")
     assert raw.metadata["n_flagged_invalid"] == 3
     assert np.flatnonzero(np.isnan(raw.z)).tolist() == [4, 5, 17]
-    p = read_profile(DATA / "stylus-invalid.hfm", preprocessing=Preprocessing(undefined="interpolate"))
+    p = read_profile(
+        DATA / "stylus-invalid.hfm", preprocessing=Preprocessing(undefined="interpolate")
+    )
     z = raw.z
     assert p.z[4] == pytest.approx(z[3] + (z[6] - z[3]) / 3)
     assert p.z[17] == pytest.approx(0.5 * (z[16] + z[18]))
@@ -346,7 +350,7 @@ def test_x3p_refuses_units_and_point_clouds(tmp_path: Path) -> None:
         read_profile(tmp_path / "pcl.x3p")
     with zipfile.ZipFile(tmp_path / "nomain.x3p", "w") as archive:
         archive.writestr("other.txt", "x")
-    with pytest.raises(ProfileReadError, match="main.xml"):
+    with pytest.raises(ProfileReadError, match=r"main\.xml"):
         read_profile(tmp_path / "nomain.x3p")
 
 
@@ -409,7 +413,7 @@ def test_csv_header_is_documented_form(tmp_path: Path) -> None:
 
 
 def test_write_refuses_unknown_extension(tmp_path: Path) -> None:
-    with pytest.raises(ReadOptionError, match=".h5"):
+    with pytest.raises(ReadOptionError, match=r"\.h5"):
         write_profile(Profile(np.arange(5.0), np.zeros(5)), tmp_path / "p.h5")
     assert not list(tmp_path.iterdir())
 
@@ -461,7 +465,7 @@ def test_instrument_format_without_extra(tmp_path: Path, monkeypatch: pytest.Mon
     assert detect_format(path) == "surfacetopography"
     with pytest.raises(MissingExtraError, match=r'pip install "splinecontact\[instruments\]"'):
         read_profile(path)
-    with pytest.raises(MissingExtraError, match="scan.sur"):
+    with pytest.raises(MissingExtraError, match=r"scan\.sur"):
         read_profile(path, format="surfacetopography")
 
 

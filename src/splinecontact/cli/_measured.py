@@ -296,6 +296,14 @@ def simulate_command(
             rich_help_panel=_PANEL_READ,
         ),
     ] = None,
+    upper_unit: Annotated[
+        str | None,
+        typer.Option(
+            "--upper-unit",
+            help="Unit of the upper file's values if it differs from --unit.",
+            rich_help_panel=_PANEL_READ,
+        ),
+    ] = None,
     undefined: UndefinedOpt = "refuse",
     order: OrderOpt = "refuse",
     duplicates: DuplicatesOpt = "refuse",
@@ -327,6 +335,8 @@ def simulate_command(
         "line": line,
     }
     upper_read = {**read, "line": line if upper_line is None else upper_line}
+    if upper_unit is not None:
+        upper_read.update(unit=upper_unit, height_unit=None)
     if _is_generated(lower) and not _is_generated(upper) and upper.strip().lower() != "flat":
         upper_profile = _load(upper, role="upper", read=upper_read, preprocessing=preprocessing)
         assert isinstance(upper_profile, Profile)
