@@ -55,6 +55,31 @@ def test_normal_force_never_decreases_for_single_asperities(case) -> None:  # ty
     assert force[-1] > 0.0
 
 
+@settings(max_examples=40, deadline=None)
+@given(
+    dimension=st.floats(min_value=1.0, max_value=2.0),
+    seed=st.integers(min_value=0, max_value=2**32 - 1),
+    n_points=st.integers(min_value=200, max_value=5000),
+    steps=st.integers(min_value=1, max_value=100),
+    mu0=st.floats(min_value=0.0, max_value=1.0),
+)
+def test_normal_force_never_decreases_on_a_rigid_flat(
+    dimension: float, seed: int, n_points: int, steps: int, mu0: float
+) -> None:
+    """Any profile against a rigid flat: the sphere-on-plane contact centre lies straight above
+    the sphere centre whatever δ_N, so acceptance never changes once a gap has closed and every
+    δ grows with δ_N (docs/conventions.md). Rough-on-rough pairs do not have this property."""
+    lower, _ = weierstrass_mandelbrot_pair(
+        dimension,
+        seed=seed,
+        n_points=n_points,
+        length=n_points * ANGSTROM,
+        wavelength=n_points * ANGSTROM / 5,
+    )
+    force = simulate(lower, "flat", steps=steps, mu0=mu0).normal_force
+    assert np.all(np.diff(force) >= 0.0)
+
+
 @settings(max_examples=25, deadline=None)
 @given(
     dimension=st.floats(min_value=1.0, max_value=2.0),

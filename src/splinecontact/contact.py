@@ -44,7 +44,7 @@ from .errors import GridMismatchError, ParameterError
 from .profile import UNIFORM_GRID_RTOL, Profile
 from .results import ContactRecord, SimulationResult
 from .spheres import own_frame_geometry
-from .spline import fit_spline
+from .spline import SplineFit, fit_spline
 
 __all__ = ["ContactGeometry", "contact_geometry", "run_loading", "simulate"]
 
@@ -258,6 +258,87 @@ def _loading_kernel(
     )
 
 
+@numba.njit(cache=True, nogil=True)
+def _place_bodies(
+    f_l: NDArray[np.float64], f_u: NDArray[np.float64], flat: bool, final: float
+) -> tuple[NDArray[np.float64], NDArray[np.int64], float]:  # pragma: no cover - compiled
+    """Gap at δ_N = 0 (minimum exactly 0), indices with gap ≤ final, and the mean gap."""
+    n = f_l.size
+    offset = -np.inf
+    for i in range(n):
+        total = f_l[i] if flat else f_u[i] + f_l[i]
+        if total > offset:
+            offset = total
+    gap0 = np.empty(n)
+    count = 0
+    gap_sum = 0.0
+    for i in range(n):
+        total = f_l[i] if flat else f_u[i] + f_l[i]
+        g = offset - total
+        gap0[i] = g
+        gap_sum += g
+        if g <= final:
+            count += 1
+    candidates = np.empty(count, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        if gap0[i] <= final:
+            candidates[k] = i
+            k += 1
+    return gap0, candidates, gap_sum / n
+
+
+@numba.njit(cache=True, nogil=True)
+def _height_statistics(
+    z: NDArray[np.float64], dx: float
+) -> tuple[float, float, float, float]:  # pragma: no cover - compiled
+    """R_A, R_q, peak-to-valley [µm] and R_Sq by grid differences (eq. 15) [1] in two passes."""
+    n = z.size
+    mean = 0.0
+    lo = z[0]
+    hi = z[0]
+    for i in range(n):
+        mean += z[i]
+        lo = min(lo, z[i])
+        hi = max(hi, z[i])
+    mean /= n
+    abs_sum = 0.0
+    sq_sum = 0.0
+    slope_sq = 0.0
+    for i in range(n):
+        dev = z[i] - mean
+        abs_sum += abs(dev)
+        sq_sum += dev * dev
+        if i > 0:
+            step = (z[i] - z[i - 1]) / dx
+            slope_sq += step * step
+    return abs_sum / n, math.sqrt(sq_sum / n), hi - lo, math.sqrt(slope_sq / (n - 1))
+
+
+@numba.njit(cache=True, nogil=True)
+def _sum_slope_rms(
+    a: NDArray[np.float64], b: NDArray[np.float64], scale: float, use_b: bool
+) -> float:  # pragma: no cover - compiled
+    """rms of (a + b)·scale (b ignored unless use_b)."""
+    total = 0.0
+    for i in range(a.size):
+        v = (a[i] + b[i] if use_b else a[i]) * scale
+        total += v * v
+    return math.sqrt(total / a.size)
+
+
+@numba.njit(cache=True, nogil=True)
+def _gap_slope_rms(
+    z_l: NDArray[np.float64], z_u: NDArray[np.float64], dx: float
+) -> float:  # pragma: no cover - compiled
+    """rms of the grid-difference slope of z_l + z_u (the gap's slope up to sign)."""
+    total = 0.0
+    for i in range(1, z_l.size):
+        v = ((z_l[i] + z_u[i]) - (z_l[i - 1] + z_u[i - 1])) / dx
+        total += v * v
+    return math.sqrt(total / (z_l.size - 1))
+
+
 def _check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
     value = float(value)
     ok = math.isfinite(value) and (value >= 0 if allow_zero else value > 0)
@@ -281,6 +362,7 @@ def contact_geometry(
     final_displacement_factor: float,
     alpha: float,
     x0: float,
+    fits: tuple[SplineFit, SplineFit | None] | None = None,
 ) -> tuple[ContactGeometry, dict[str, float]]:
     """Spline fits, spheres, placement and candidate ordering for a loading (Secs. 2.2–2.4).
 
@@ -301,6 +383,9 @@ def contact_geometry(
         Tightness exponent α [1] (eq. 3).
     x0 : float
         Unit length x0 [µm] (eqs. 2–3).
+    fits : (SplineFit, SplineFit or None), optional
+        Spline fits of (lower, upper) already computed with the same α and x0 (``None`` for a
+        flat upper body); fitted here when omitted.
 
     Returns
     -------
@@ -323,17 +408,13 @@ def contact_geometry(
                 f"grid spacings differ: upper dx = {upper.dx!r} µm, lower dx = {lower.dx!r} µm; "
                 "both bodies must share one grid (resample one of them)"
             )
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-    r_min = 0.5 * lower.dx
-    fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
-    f_l = fit_l.f
-    if fit_u is None:
-        total = f_l
+    if fits is None:
+        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+        fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
-        total = fit_u.f + f_l
-    offset = float(total.max())
-    gap0 = offset - total  # ≥ 0, zero at the highest point of f^u + f^l
-
+        fit_l, fit_u = fits
+    r_min = 0.5 * lower.dx
+    f_l = fit_l.f
     if final_displacement is None:
         _check_positive("final_displacement_factor", final_displacement_factor, "")
         final = final_displacement_factor * lower.peak_to_valley
@@ -345,8 +426,11 @@ def contact_geometry(
     else:
         final = _check_positive("final_displacement", final_displacement, " µm")
     displacement = final * np.arange(steps + 1) / steps
-    # Only the points whose gap closes by the last step are ever visited (detection z^u ≤ z^l).
-    candidates = np.flatnonzero(gap0 <= displacement[-1])
+    # gap0 ≥ 0 with minimum 0 at the highest point of f^u + f^l. Only the points whose gap
+    # closes by the last step are ever visited (detection z^u ≤ z^l).
+    gap0, candidates, mean_gap0 = _place_bodies(
+        f_l, f_l if fit_u is None else fit_u.f, fit_u is None, float(displacement[-1])
+    )
     closing = np.searchsorted(displacement, gap0[candidates], side="left")
     order_in = np.argsort(closing, kind="stable")
     order = candidates[order_in]
@@ -377,25 +461,32 @@ def contact_geometry(
         first_step_index=active,
         displacement=displacement,
         dx=lower.dx,
-        mean_gap0=float(gap0.mean()),
+        mean_gap0=float(mean_gap0),
     )
 
-    def rms(values: NDArray[np.float64]) -> float:
-        return float(np.sqrt(np.mean(values * values)))
-
     dx = lower.dx
+    ra_l, rq_l, pv_l, rsq_l = _height_statistics(lower.z, dx)
+    if fit_u is None:
+        ra_u = rq_u = rsq_u = 0.0
+        rsq_gap = rsq_l
+        slope_u = fit_l.slope
+    else:
+        ra_u, rq_u, _, rsq_u = _height_statistics(upper.z, dx)  # type: ignore[union-attr]
+        rsq_gap = _gap_slope_rms(lower.z, upper.z, dx)  # type: ignore[union-attr]
+        slope_u = fit_u.slope
+    flat_u = fit_u is None
     stats = {
-        "ra_lower": lower.ra,
-        "rq_lower": lower.rq,
-        "peak_to_valley_lower": lower.peak_to_valley,
-        "rsq_lower": lower.rsq,
-        "rsq_lower_spline": rms(fit_l.slope),
-        "ra_upper": 0.0 if flat else upper.ra,  # type: ignore[union-attr]
-        "rq_upper": 0.0 if flat else upper.rq,  # type: ignore[union-attr]
-        "rsq_upper": 0.0 if flat else upper.rsq,  # type: ignore[union-attr]
-        "rsq_upper_spline": 0.0 if fit_u is None else rms(fit_u.slope),
-        "rsq_gap": lower.rsq if flat else rms(np.diff(lower.z + upper.z) / dx),  # type: ignore[union-attr]
-        "rsq_gap_spline": rms(fit_l.slope if fit_u is None else fit_l.slope + fit_u.slope),
+        "ra_lower": ra_l,
+        "rq_lower": rq_l,
+        "peak_to_valley_lower": pv_l,
+        "rsq_lower": rsq_l,
+        "rsq_lower_spline": _sum_slope_rms(fit_l.slope, fit_l.slope, 1.0, False),
+        "ra_upper": ra_u,
+        "rq_upper": rq_u,
+        "rsq_upper": rsq_u,
+        "rsq_upper_spline": 0.0 if flat_u else _sum_slope_rms(slope_u, slope_u, 1.0, False),
+        "rsq_gap": rsq_gap,
+        "rsq_gap_spline": _sum_slope_rms(fit_l.slope, slope_u, 1.0, not flat_u),
     }
     return geometry, stats
 

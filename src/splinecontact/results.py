@@ -12,11 +12,13 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
+    import xarray as xr
 
 __all__ = [
     "CONTACT_VARIABLES",
@@ -173,6 +175,8 @@ class SimulationResult:
         ``long_name`` attributes; the dataset attributes hold the parameters (scalars as
         attributes, the profile metadata as JSON strings).
         """
+        import xarray as xr
+
         steps = np.arange(self.n_steps + 1)
         data_vars: dict[str, Any] = {}
         for name, (units, description) in STEP_VARIABLES.items():

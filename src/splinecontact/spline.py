@@ -98,6 +98,13 @@ def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> fl
 
 
 @numba.njit(cache=True, nogil=True)
+def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
+    grown = np.empty(capacity)
+    grown[: values.size] = values
+    return grown
+
+
+@numba.njit(cache=True, nogil=True)
 def _reinsch_uniform(
     z: NDArray[np.float64], lam_grid: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
@@ -113,15 +120,22 @@ def _reinsch_uniform(
     c = lam_grid
     # The factors of a Toeplitz matrix converge to a fixed point within a few hundred rows;
     # once two consecutive rows agree bitwise every later row is identical, so they are stored
-    # only up to that row (``last``) and reused: the result is the same to the last bit.
-    d = np.empty(m)
-    l1 = np.empty(m)
-    l2 = np.empty(m)
+    # only up to that row (``last``) and reused: the result is the same to the last bit, and
+    # the factor arrays stay small (they grow by doubling only while not converged).
+    capacity = min(m, 1024)
+    d = np.empty(capacity)
+    l1 = np.empty(capacity)
+    l2 = np.empty(capacity)
     d[0] = a
     l1[0] = 0.0
     l2[0] = 0.0
     last = m - 1
     for i in range(1, m):
+        if i >= capacity:
+            capacity = min(m, 2 * capacity)
+            d = _grow(d, capacity)
+            l1 = _grow(l1, capacity)
+            l2 = _grow(l2, capacity)
         if i >= 2:
             l2[i] = c / d[i - 2]
             l1[i] = (b - l2[i] * l1[i - 1] * d[i - 2]) / d[i - 1]
@@ -133,19 +147,19 @@ def _reinsch_uniform(
             l2[i] = 0.0
             l1[i] = b / d[0]
             d[i] = a - l1[i] * l1[i] * d[0]
-    y = np.empty(m)
+    # Forward substitution into gamma[1:-1] (gamma[i + 1] holds y_i), then back substitution.
+    gamma = np.zeros(n)
     for i in range(m):
         rhs = z[i] - 2.0 * z[i + 1] + z[i + 2]
         k = min(i, last)
         if i >= 2:
-            y[i] = rhs - l1[k] * y[i - 1] - l2[k] * y[i - 2]
+            gamma[i + 1] = rhs - l1[k] * gamma[i] - l2[k] * gamma[i - 1]
         elif i == 1:
-            y[i] = rhs - l1[k] * y[0]
+            gamma[i + 1] = rhs - l1[k] * gamma[i]
         else:
-            y[i] = rhs
-    gamma = np.zeros(n)
+            gamma[i + 1] = rhs
     for i in range(m - 1, -1, -1):
-        value = y[i] / d[min(i, last)]
+        value = gamma[i + 1] / d[min(i, last)]
         if i + 1 < m:
             value -= l1[min(i + 1, last)] * gamma[i + 2]
         if i + 2 < m:
