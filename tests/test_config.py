@@ -149,3 +149,10 @@ def test_paper_study_is_the_papers_design() -> None:
     assert fixed["steps"] == 1000
     assert fixed["e_star"] == 10.0
     assert fixed["final_displacement_factor"] == 0.2
+
+
+def test_every_parameter_is_documented() -> None:
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "studies.md").read_text(encoding="utf-8")
+    for name, spec in PARAMETERS.items():
+        assert f"| `{name}` |" in docs, name
+        assert spec.description

@@ -48,7 +48,7 @@ import time
 import uuid
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -547,6 +547,35 @@ def _connect(scheduler: Any) -> tuple[Any, bool]:
         ) from None
 
 
+def _worker_version() -> str:
+    return __version__
+
+
+def _check_workers(client: Any) -> None:
+    """Refuse workers whose splinecontact differs from ours (results would differ)."""
+    try:
+        versions = client.run(_worker_version)
+    except Exception as exc:
+        raise StudyExecutionError(
+            f"the Dask workers cannot run splinecontact ({_one_line(exc)}); install the same "
+            f"splinecontact {__version__} on every worker"
+        ) from None
+    wrong = {worker: v for worker, v in versions.items() if v != __version__}
+    if wrong:
+        worker, version = next(iter(wrong.items()))
+        raise StudyExecutionError(
+            f"Dask worker {worker} has splinecontact {version}, this is {__version__}; install "
+            "the same version on every worker"
+        )
+
+
+def _grid_label(config: StudyConfig, grid_index: Sequence[int]) -> str:
+    parts = [
+        f"{name}={values[i]}" for (name, values), i in zip(config.swept, grid_index, strict=True)
+    ]
+    return ", ".join(parts) + ", " if parts else ""
+
+
 # --- summary ------------------------------------------------------------------------------------
 
 
@@ -588,7 +617,6 @@ class StudySummary:
     failures: tuple[FailedRealization, ...] = ()
     lost: tuple[str, ...] = ()
     wall_time: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def complete(self) -> bool:
@@ -776,6 +804,7 @@ def run_study(
             status = writer.status()
             n_done = int(np.count_nonzero(status != STATUS_NOT_RUN))
             if client is not None:
+                _check_workers(client)
                 n_workers = max(1, sum(client.nthreads().values()))
             else:
                 n_workers = _default_workers() if workers is None else workers
@@ -798,9 +827,9 @@ def run_study(
                     for item in results:
                         if isinstance(item, _Lost):
                             t = item.task
+                            where = _grid_label(config, t.grid_index)
                             lost.append(
-                                f"grid {t.grid_index} realizations {t.start}–{t.stop - 1}: "
-                                f"{item.reason}"
+                                f"{where}realizations {t.start}–{t.stop - 1}: {item.reason}"
                             )
                             continue
                         writer.write(item)
