@@ -215,6 +215,19 @@ def test_unit_errors(tmp_path: Path) -> None:
     assert read_profile(path, unit="mm").metadata["units"]["x"] == "mm"  # agreeing is fine
 
 
+def test_legacy_encoding_and_comma_titles_over_space_data(tmp_path: Path) -> None:
+    path = tmp_path / "old.txt"
+    text = "Höhe, z\nx [µm] z [µm]\n" + "".join(f"{i} {i * i}\n" for i in range(6))
+    path.write_bytes(text.encode("cp1252"))  # µ and ö as single bytes
+    p = read_profile(path)
+    assert p.metadata["units"]["x"] == "µm"
+    np.testing.assert_allclose(p.z, np.arange(6.0) ** 2)
+    path.write_text("x, z\n" + "".join(f"{i} {i * i}\n" for i in range(6)))
+    raw = read_raw(path, unit="um")
+    np.testing.assert_allclose(raw.z, np.arange(6.0) ** 2)  # titles "x," and "z" recognised
+    assert raw.metadata["header_lines"] == 1
+
+
 def test_height_unit_differs_from_lateral(tmp_path: Path) -> None:
     path = tmp_path / "s.txt"
     path.write_text("".join(f"{i}\t{i}\n" for i in range(6)))

@@ -139,7 +139,7 @@ def detect_format(path: str | os.PathLike[str]) -> str:
     kind = _content_kind(head)
     suffix = p.suffix.lower()
     if kind == "empty":
-        raise EmptyFileError(f"{p}: the file is empty; nothing to read")
+        raise EmptyFileError(f"{p}: the file is empty; nothing to read — export the scan again")
     if kind == "zip":
         kind = _zip_kind(p)
     names = {

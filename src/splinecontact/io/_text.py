@@ -270,7 +270,7 @@ def _columns(
             if bare and not name:
                 name = bare
             title = f"{title} {titles[c]}".strip()
-        columns.append(_Column(title, name.lower(), unit, raw_unit, title_line))
+        columns.append(_Column(title, name.strip(" ,;:").lower(), unit, raw_unit, title_line))
     return columns
 
 
@@ -426,7 +426,7 @@ def _table_to_raw(
 def _lines_or_empty(path: Path, text: str) -> list[str]:
     lines = text.splitlines()
     if not any(line.strip() for line in lines):
-        raise EmptyFileError(f"{path}: the file is empty; nothing to read")
+        raise EmptyFileError(f"{path}: the file is empty; nothing to read — export the scan again")
     return lines
 
 
