@@ -149,7 +149,7 @@ def test_ensemble_vs_displacement_known_mean_and_ci() -> None:
 
 
 def test_ensemble_vs_force_linear_relation_is_exact(study: xr.Dataset) -> None:
-    ens = analysis.ensemble_vs_force(study, n_samples=33)
+    ens = analysis.ensemble_vs_force(study, n_samples=33, end_quantile=0.0)
     for d in range(3):
         sub = ens.isel(dimension=d, contact_type=1)
         f = sub["normal_force"].values
@@ -218,7 +218,7 @@ def test_stiffness_rejects_bad_window(study: xr.Dataset) -> None:
 
 def test_dimensionless_stiffness_of_power_law() -> None:
     ds = make_study(steps=1000, exponent=2.0, failed=())
-    out = analysis.dimensionless_stiffness(ds, n_samples=50)
+    out = analysis.dimensionless_stiffness(ds, n_samples=50, end_quantile=0.0)
     # F = C δ² ⇒ k = 2 C δ = 2 √(C F): k/E* = 2 √(C F)/E*, independent of the realization only
     # through C; check grid point d = 0, whose C_r = 100 (1 + 0.05 r)
     sub = out.isel(dimension=0, contact_type=0)
@@ -406,3 +406,32 @@ def test_kappa_property_linear_area(
     ds["rsq_lower"].values[:] = rsq
     out = analysis.kappa(ds, fit_fraction=fraction)
     np.testing.assert_allclose(out["kappa"].values, rsq * E_STAR * slope, rtol=1e-10)
+
+
+def test_spearman_pvalue_exact_small_n() -> None:
+    assert analysis.spearman_pvalue(1.0, 3) == pytest.approx(2 / 6)
+    assert analysis.spearman_pvalue(-1.0, 5) == pytest.approx(2 / 120)
+    assert analysis.spearman_pvalue(0.0, 4) == pytest.approx(1.0)
+    # large n: the t approximation, as scipy
+    x = np.arange(12.0)
+    y = np.array([1, 3, 2, 5, 4, 7, 6, 9, 8, 12, 10, 11.0])
+    res = stats.spearmanr(x, y)
+    assert analysis.spearman_pvalue(res.statistic, 12) == pytest.approx(res.pvalue, rel=1e-6)
+    assert math.isnan(analysis.spearman_pvalue(0.5, 2))
+
+
+def test_end_quantile_extends_range_and_counts_survivors() -> None:
+    ds = make_study(dimensions=(1.5,), contact_types=("rough-on-flat",), realizations=5, failed=())
+    finals = ds["normal_force"].isel(step=-1).values.ravel()
+    ens = analysis.ensemble_vs_force(ds, ["contact_area"], end_quantile=0.5, n_samples=21)
+    f = ens["normal_force"].values.ravel()
+    assert f[-1] == pytest.approx(np.quantile(finals, 0.5))
+    count = ens["contact_area_count"].values.ravel()
+    # at each load, the realizations whose final load reaches it
+    expected = (finals[None, :] >= f[:, None] * (1 - 1e-12)).sum(axis=1)
+    np.testing.assert_array_equal(count, expected)
+    assert count[-1] == 3 and count[0] == 5
+    # the linear relation still holds exactly where fewer realizations contribute
+    np.testing.assert_allclose(ens["contact_area_mean"].values.ravel(), 0.02 / 1 * f, rtol=1e-9)
+    with pytest.raises(ParameterError, match="end_quantile"):
+        analysis.ensemble_vs_force(ds, end_quantile=1.5)

@@ -35,7 +35,10 @@ Conventions (see ``docs/analysis.md`` for the reasoning)
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -52,6 +55,7 @@ __all__ = [
     "PERSSON_KAPPA",
     "AnalysisError",
     "TrendTest",
+    "bootstrap_means",
     "confidence_halfwidth",
     "dimensionless_stiffness",
     "ensemble_statistics",
@@ -68,6 +72,7 @@ __all__ = [
     "ok_mask",
     "parameter",
     "power_law_exponent",
+    "spearman_pvalue",
     "stiffness",
     "study_hurst",
     "trend_test",
@@ -298,7 +303,8 @@ def interpolate_realizations(
     ordinates: Sequence[str] | Mapping[str, xr.DataArray],
     *,
     n_samples: int = 101,
-    upper: Literal["common", "max"] = "common",
+    end_quantile: float = 0.0,
+    spacing: Literal["linear", "log"] = "linear",
 ) -> xr.Dataset:
     """Interpolate each successful realization onto a common abscissa per grid point.
 
@@ -315,10 +321,15 @@ def interpolate_realizations(
     n_samples : int
         Number of points of the common abscissa. It starts at the largest first value among
         the grid point's realizations (0 for δ_N and, normally, for F_N at first contact).
-    upper : {"common", "max"}
-        Upper end of the abscissa per grid point: ``"common"`` (default) is the smallest end
-        value among the successful realizations, so every realization covers the whole range;
-        ``"max"`` is the largest, and samples beyond a realization's end are NaN.
+    end_quantile : float
+        Upper end of the abscissa per grid point, as a quantile of the end values of the grid
+        point's successful realizations: 0 (default) is the smallest, so every realization
+        covers the whole range (no extrapolation, no survivor bias); a larger value extends the
+        range, and samples beyond a realization's end are NaN (left out of the statistics,
+        which report their count).
+    spacing : {"linear", "log"}
+        Uniform samples, or geometric samples over three decades below the upper end (for
+        log–log plots; the lower end is then 10⁻³ × the upper end, or the common start if larger).
 
     Returns
     -------
@@ -333,8 +344,10 @@ def interpolate_realizations(
         A variable is missing, or a grid point has no successful realization.
     """
     _check_samples(n_samples)
-    if upper not in ("common", "max"):
-        raise ParameterError(f"upper must be 'common' or 'max', got {upper!r}")
+    if not 0.0 <= end_quantile <= 1.0:
+        raise ParameterError(f"end_quantile must lie in [0, 1], got {end_quantile!r}")
+    if spacing not in ("linear", "log"):
+        raise ParameterError(f"spacing must be 'linear' or 'log', got {spacing!r}")
     ordinate_arrays: dict[str, xr.DataArray] = {}
     if isinstance(ordinates, Mapping):
         ordinate_arrays = dict(ordinates)
@@ -366,9 +379,12 @@ def interpolate_realizations(
                 "run or resume the study, or drop that grid point with .sel/.drop_sel"
             )
         ends = [np.nanmax(xs[gp][r]) for r in good]
-        end = min(ends) if upper == "common" else max(ends)
+        end = float(np.quantile(ends, end_quantile))
         start = max(float(np.nanmin(xs[gp][r])) for r in good)
-        grid = np.linspace(start, end, n_samples)
+        if spacing == "log" and end > 0:
+            grid = np.geomspace(max(start, 1e-3 * end), end, n_samples)
+        else:
+            grid = np.linspace(start, end, n_samples)
         x_out[gp] = grid
         for r in good:
             x_r = xs[gp][r]
@@ -402,7 +418,7 @@ def interpolate_realizations(
     }
     out = xr.Dataset(data, coords=coords)
     out.attrs["abscissa"] = abscissa
-    out.attrs["abscissa_upper_end"] = upper
+    out.attrs["end_quantile"] = end_quantile
     return out
 
 
@@ -456,11 +472,17 @@ def ensemble_vs_force(
     *,
     n_samples: int = 101,
     confidence: float = 0.95,
+    end_quantile: float = 0.25,
 ) -> xr.Dataset:
     """Ensemble statistics of per-step variables against the normal force F_N (Figs. 10b, 11b).
 
-    Each realization is interpolated onto ``n_samples`` loads from 0 to the smallest final load of
-    the grid point's realizations (plateaus of F_N: first step of each new load), then averaged.
+    Each realization is interpolated onto ``n_samples`` loads from 0 to the ``end_quantile``
+    quantile of the final loads of the grid point's realizations (plateaus of F_N: first step of
+    each new load), then averaged. Final loads scatter far more than final displacements (one
+    realization in twenty may end at 1/100 of the median), so the default 0.25 keeps the range
+    useful: beyond a realization's final load it is left out, and at least 75 % of the
+    realizations contribute at every load (``*_count`` says how many). Use 0 for a range
+    every realization covers.
 
     Parameters
     ----------
@@ -472,6 +494,9 @@ def ensemble_vs_force(
         Number of common loads.
     confidence : float
         Level of the confidence interval of the mean [1].
+    end_quantile : float
+        Quantile of the final loads that ends the load range (see
+        :func:`interpolate_realizations`).
 
     Returns
     -------
@@ -479,7 +504,9 @@ def ensemble_vs_force(
         Dims (grid…, sample), coordinate ``normal_force`` [mN/µm] on (grid…, sample) and the
         statistics of :func:`ensemble_statistics` for each variable.
     """
-    interp = interpolate_realizations(ds, "normal_force", list(variables), n_samples=n_samples)
+    interp = interpolate_realizations(
+        ds, "normal_force", list(variables), n_samples=n_samples, end_quantile=end_quantile
+    )
     return _ensemble(interp, confidence)
 
 
@@ -619,13 +646,17 @@ def dimensionless_stiffness(
     window: int | None = None,
     polyorder: int = 2,
     confidence: float = 0.95,
+    spacing: Literal["linear", "log"] = "log",
+    end_quantile: float = 0.25,
 ) -> xr.Dataset:
     """Dimensionless stiffness k/E* against dimensionless load F_N/(E* L0) (Fig. 11a).
 
     For unit thickness, k [mN/µm²] / E* [GPa = mN/µm²] and F_N [mN/µm] / (E* [mN/µm²] · L0 [µm])
     are pure numbers (L0 = profile length). Each realization's k (see :func:`stiffness`) is
-    interpolated onto a common load grid per grid point (as in :func:`ensemble_vs_force`) and
-    averaged there.
+    interpolated onto a common load grid per grid point (as in :func:`ensemble_vs_force`,
+    including its ``end_quantile``) and averaged there. The load samples are geometric by
+    default (``spacing="log"``: three decades below the end of the range), as the figure is
+    log–log.
 
     Returns
     -------
@@ -643,6 +674,8 @@ def dimensionless_stiffness(
         "normal_force",
         {"stiffness": k, "dimensionless_stiffness": k_dimless},
         n_samples=n_samples,
+        spacing=spacing,
+        end_quantile=end_quantile,
     )
     out = _ensemble(interp, confidence)
     load = (out.coords["normal_force"] / (e_star * length)).assign_attrs(
@@ -999,7 +1032,8 @@ class TrendTest:
     rho_low, rho_high : float
         Percentile bootstrap interval of ρ (realizations resampled within each group).
     p_value : float
-        Two-sided p-value of ρ (scipy, exact/t approximation over the groups).
+        Two-sided p-value of ρ over the groups (exact for ≤ 9 groups, see
+        :func:`spearman_pvalue`).
     """
 
     x: NDArray[np.float64]
@@ -1024,11 +1058,76 @@ class TrendTest:
         return bool(self.rho_low > 0)
 
 
+@functools.lru_cache(maxsize=16)
+def _spearman_null(n: int) -> NDArray[np.float64]:
+    """Exact null distribution of Spearman's ρ for n untied values (all n! rank orders)."""
+    perms = np.array(list(itertools.permutations(range(n))), dtype=np.float64)
+    d2 = ((perms - np.arange(n)) ** 2).sum(axis=1)
+    return np.asarray(1.0 - 6.0 * d2 / (n * (n * n - 1.0)))
+
+
+def spearman_pvalue(rho: float, n: int) -> float:
+    """Two-sided p-value of Spearman's ρ for n groups without ties.
+
+    Exact (enumeration of all n! orders) for n ≤ 9, the t approximation of scipy above. For the
+    handful of parameter values of a study the t approximation is far off (it gives p = 0 for
+    ρ = ±1 with n = 3, where the exact value is 1/3).
+    """
+    if not math.isfinite(rho) or n < 3:
+        return math.nan
+    if n <= 9:
+        null = _spearman_null(n)
+        return float(np.mean(np.abs(null) >= abs(rho) - 1e-12))
+    t = rho * math.sqrt((n - 2) / max(1e-300, 1.0 - rho * rho))
+    return float(2 * stats.t.sf(abs(t), n - 2))
+
+
 def _spearman(x: NDArray[np.float64], y: NDArray[np.float64]) -> float:
     good = np.isfinite(y)
     if good.sum() < 3 or np.ptp(y[good]) == 0 or np.ptp(x[good]) == 0:
         return math.nan
     return float(stats.spearmanr(x[good], y[good]).statistic)
+
+
+def bootstrap_means(
+    groups: Sequence[NDArray[np.float64]], n_boot: int, rng: np.random.Generator
+) -> NDArray[np.float64]:
+    """Means of ``n_boot`` resamples (with replacement) of every group: shape (n_boot, groups).
+
+    NaN values are left out of the means; an empty group gives NaN.
+    """
+    out = np.full((n_boot, len(groups)), np.nan)
+    for g, v in enumerate(groups):
+        if v.size:
+            idx = rng.integers(0, v.size, (n_boot, v.size))
+            with np.errstate(invalid="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                out[:, g] = np.nanmean(v[idx], axis=1)
+    return out
+
+
+def _ranks(a: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.argsort(np.argsort(a, axis=-1), axis=-1).astype(np.float64)
+
+
+def _bootstrap_spearman(
+    x: NDArray[np.float64],
+    groups: Sequence[NDArray[np.float64]],
+    n_boot: int,
+    rng: np.random.Generator,
+) -> NDArray[np.float64]:
+    """Spearman ρ of x with resampled group means, vectorized over the resamples."""
+    keep = np.array([g.size > 0 for g in groups])
+    if keep.sum() < 3:
+        return np.full(n_boot, np.nan)
+    means = bootstrap_means([g for g, k in zip(groups, keep, strict=True) if k], n_boot, rng)
+    rx = _ranks(x[keep])
+    rx = rx - rx.mean()
+    ry = _ranks(means)
+    ry = ry - ry.mean(axis=1, keepdims=True)
+    denom = np.sqrt((rx**2).sum() * (ry**2).sum(axis=1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.asarray((ry * rx).sum(axis=1) / denom)
 
 
 def trend_test(
@@ -1074,16 +1173,9 @@ def trend_test(
     half = confidence_halfwidth(stds, counts, confidence)
     rho = _spearman(xa, means)
     good = np.isfinite(means)
-    p_value = (
-        float(stats.spearmanr(xa[good], means[good]).pvalue) if math.isfinite(rho) else math.nan
-    )
+    p_value = spearman_pvalue(rho, int(good.sum()))
     rng = np.random.default_rng(seed)
-    boots = np.full(n_boot, np.nan)
-    for b in range(n_boot):
-        bm = np.array(
-            [v[rng.integers(0, v.size, v.size)].mean() if v.size else np.nan for v in vals]
-        )
-        boots[b] = _spearman(xa, bm)
+    boots = _bootstrap_spearman(xa, vals, n_boot, rng)
     alpha = (1.0 - confidence) / 2.0
     finite = boots[np.isfinite(boots)]
     if finite.size and math.isfinite(rho):

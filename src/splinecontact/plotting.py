@@ -337,8 +337,9 @@ def plot_kappa_hurst(
         lw=1.4,
         label=f"Bush et al. √(2π) = {analysis.BUSH_KAPPA:.3f}",
     )
+    ax.set_yscale("log")
     ax.set_xlabel("Hurst exponent H [1]")
-    ax.set_ylabel("κ = R_Sq A_S E* / F_N [1]")
+    ax.set_ylabel("κ = R_Sq A_S E* / F_N [1] (log scale)")
     ax.legend(fontsize="small", frameon=False)
     return ax
 

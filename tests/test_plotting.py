@@ -1,0 +1,166 @@
+"""Tests of splinecontact.plotting: every function draws on the given axes, labels its units."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from matplotlib.figure import Figure
+
+from splinecontact import analysis, plotting
+from splinecontact.errors import ParameterError
+from test_analysis import make_study
+
+
+@pytest.fixture(scope="module")
+def study() -> xr.Dataset:
+    return make_study(
+        dimensions=(1.2, 1.5, 1.8), realizations=3, steps=80, noise=0.01, failed=((0, 0, 2),)
+    )
+
+
+def _axes() -> plotting.Axes:
+    return Figure().add_subplot()
+
+
+def _assert_labelled(ax: plotting.Axes) -> None:
+    assert "[" in ax.get_xlabel() and "]" in ax.get_xlabel()
+    assert "[" in ax.get_ylabel() and "]" in ax.get_ylabel()
+
+
+def test_force_displacement_uses_given_axes(study: xr.Dataset) -> None:
+    ens = analysis.ensemble_vs_displacement(study).sel(contact_type="rough-on-rough")
+    ax = _axes()
+    out = plotting.plot_force_displacement(ens, ax=ax)
+    assert out is ax
+    _assert_labelled(ax)
+    assert "mN/µm" in ax.get_ylabel()
+    assert "nm" in ax.get_xlabel()
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["D = 1.2", "D = 1.5", "D = 1.8"]
+    # the drawn curve is the ensemble mean, δ converted to nm
+    line = ax.get_lines()[0]
+    np.testing.assert_allclose(line.get_xdata(), ens.isel(dimension=0)["displacement"] * 1000)
+    np.testing.assert_allclose(line.get_ydata(), ens.isel(dimension=0)["normal_force_mean"])
+
+
+def test_force_figures_label_units(study: xr.Dataset) -> None:
+    ens_f = analysis.ensemble_vs_force(study).sel(contact_type="rough-on-flat")
+    ens_k = analysis.dimensionless_stiffness(study).sel(contact_type="rough-on-flat")
+    for func, data in (
+        (plotting.plot_separation_force, ens_f),
+        (plotting.plot_area_force, ens_f),
+        (plotting.plot_dimensionless_stiffness, ens_k),
+    ):
+        ax = _axes()
+        assert func(data, ax=ax) is ax
+        _assert_labelled(ax)
+        assert len(ax.get_legend().get_texts()) == 3
+
+
+def test_new_axes_when_none(study: xr.Dataset) -> None:
+    ens = analysis.ensemble_vs_force(study).sel(contact_type="rough-on-flat")
+    ax = plotting.plot_area_force(ens)
+    assert isinstance(ax.figure, Figure)
+
+
+def test_unselected_dimension_is_an_error(study: xr.Dataset) -> None:
+    ens = analysis.ensemble_vs_displacement(study)
+    with pytest.raises(ParameterError, match="contact_type"):
+        plotting.plot_force_displacement(ens, ax=_axes())
+    with pytest.raises(ParameterError, match="alpha"):
+        plotting.plot_force_displacement(
+            ens.sel(contact_type="rough-on-rough"), ax=_axes(), hue="alpha"
+        )
+
+
+def test_kappa_hurst_reference_lines(study: xr.Dataset) -> None:
+    kap = analysis.kappa(study)
+    kappas = {str(c): kap.sel(contact_type=c) for c in kap["contact_type"].values}
+    ax = _axes()
+    assert plotting.plot_kappa_hurst(kappas, ax=ax, measured_hurst={1.2: 0.8, 1.5: 0.5}) is ax
+    _assert_labelled(ax)
+    ys = {round(float(line.get_ydata()[0]), 4) for line in ax.get_lines()}
+    assert round(analysis.PERSSON_KAPPA, 4) in ys
+    assert round(analysis.BUSH_KAPPA, 4) in ys
+    texts = " ".join(t.get_text() for t in ax.get_legend().get_texts())
+    assert "Persson" in texts and "Bush" in texts and "rough-on-flat" in texts
+
+
+def test_make_study_figures_writes_png_and_svg(study: xr.Dataset, tmp_path: Path) -> None:
+    written = plotting.make_study_figures(study, tmp_path)
+    expected = {
+        "fig10_rough-on-rough",
+        "fig10_rough-on-flat",
+        "fig11_rough-on-rough",
+        "fig11_rough-on-flat",
+        "fig12_kappa",
+        "diag_force_split",
+    }
+    assert set(written) == expected
+    for paths in written.values():
+        assert sorted(p.suffix for p in paths) == [".png", ".svg"]
+        for p in paths:
+            assert p.stat().st_size > 1000
+    assert (tmp_path / "fig12_kappa.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_profile_figures_draw(tmp_path: Path) -> None:
+    from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
+    from splinecontact.spline import fit_spline
+
+    small = {"n_points": 4000, "length": 4.0}
+    profiles = [weierstrass_mandelbrot(d, seed=1, **small) for d in (1.2, 1.8)]
+    ax = _axes()
+    assert plotting.plot_profiles(profiles, labels=["a", "b"], ax=ax, xlim=(0, 2)) is ax
+    _assert_labelled(ax)
+    lower, upper = weierstrass_mandelbrot_pair(1.4, seed=2, **small)
+    fits = [fit_spline(lower, alpha=a) for a in (1.0, 2.0)]
+    ax = _axes()
+    assert plotting.plot_spline_fits(lower, fits, ax=ax, xlim=(1.0, 1.1)) is ax
+    assert [t.get_text() for t in ax.get_legend().get_texts()][1:] == [
+        "spline, α = 1",
+        "spline, α = 2",
+    ]
+    fit_l, fit_u = fit_spline(lower), fit_spline(upper)
+    ax = _axes()
+    assert plotting.plot_spheres(fit_l, upper_fit=fit_u, ax=ax, xlim=(1.0, 1.05)) is ax
+    _assert_labelled(ax)
+    ax = _axes()
+    assert plotting.plot_first_contact(fit_l, fit_u, ax=ax) is ax
+    _assert_labelled(ax)
+    ax = _axes()
+    assert plotting.plot_first_contact(fit_l, None, ax=ax) is ax
+
+
+def test_illustrative_figures_small(tmp_path: Path) -> None:
+    written, hurst = plotting.make_illustrative_figures(
+        tmp_path,
+        dimensions=(1.2, 1.6),
+        params={"n_points": 4000, "length": 4.0, "steps": 40},
+        focus_dimension=1.4,
+    )
+    assert set(written) == {
+        "fig03_profiles",
+        "fig04_spline_alpha",
+        "fig05_spheres",
+        "fig08_first_contact",
+        "fig09_contact_zoom",
+    }
+    for paths in written.values():
+        for p in paths:
+            assert p.stat().st_size > 1000
+    assert set(hurst) == {1.2, 1.6}
+    assert hurst[1.2] > hurst[1.6]
+
+
+def test_decimate_keeps_extremes() -> None:
+    x = np.linspace(0, 1, 100_000)
+    z = np.sin(50 * x)
+    z[12345] = 7.0
+    xd, zd = plotting._decimate(x, z, max_points=1000)
+    assert xd.size <= 1000
+    assert zd.max() == 7.0
+    assert zd.min() == pytest.approx(z.min())
