@@ -130,6 +130,7 @@ def test_real_files_run_through_simulate(name: str, kwargs: dict, upper: str) ->
     assert forces[-1] > max(forces[0], 0.0)  # pressing harder carries more load
     assert int(result.curves["n_contacts"][-1]) >= 1
     assert np.all(np.diff(np.asarray(result.curves["displacement"])) > 0)
+    assert result.lower_metadata["file"].endswith(name)
     assert result.lower_metadata["source"].endswith(name)
 
 
@@ -412,9 +413,23 @@ def test_write_read_round_trip(tmp_path: Path, suffix: str) -> None:
     back = read_profile(path)
     np.testing.assert_array_equal(back.x, p.x)
     np.testing.assert_array_equal(back.z, p.z)
-    assert back.metadata["stored_metadata"] == meta
-    assert back.metadata["source"] == str(path)
+    for key, value in meta.items():  # the stored metadata come back
+        assert back.metadata[key] == value
+    assert back.metadata["file"] == str(path)
+    assert back.metadata["format"] == ("npz" if suffix == ".npz" else "table")
     assert [f.name for f in tmp_path.iterdir()] == [f"out{suffix}"]  # no temporary left
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".csv"])
+def test_generated_profile_round_trip_keeps_its_analysis(tmp_path: Path, suffix: str) -> None:
+    from splinecontact import weierstrass_mandelbrot
+    from splinecontact.spectra import hurst_exponent
+
+    p = weierstrass_mandelbrot(1.5, n_points=4000, seed=3)
+    back = read_profile(write_profile(p, tmp_path / f"g{suffix}"))
+    assert back.metadata["source"] == "weierstrass_mandelbrot"
+    assert back.metadata["seed_entropy"] == p.metadata["seed_entropy"]
+    assert hurst_exponent(back) == hurst_exponent(p)
 
 
 def test_csv_header_is_documented_form(tmp_path: Path) -> None:

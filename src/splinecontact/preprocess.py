@@ -275,7 +275,7 @@ def _where(
 
 
 def _source(raw: RawProfile) -> str:
-    return str(raw.metadata.get("source", "the scan"))
+    return str(raw.metadata.get("file", raw.metadata.get("source", "the scan")))
 
 
 def _uniform_grid(x0: float, x1: float, n: int) -> NDArray[np.float64]:

@@ -202,7 +202,39 @@ def read_raw(
 
     Parameters are those of :func:`read_profile`.
     """
-    p = Path(path)
+    raw = _read_raw(
+        Path(path), format=format, unit=unit, height_unit=height_unit, spacing=spacing, line=line
+    )
+    return _with_provenance(raw, Path(path))
+
+
+def _with_provenance(raw: RawProfile, path: Path) -> RawProfile:
+    """Add ``file``; for files written by :func:`write_profile`, restore the stored metadata.
+
+    A profile written by :func:`write_profile` reads back with its own metadata (``source``
+    stays e.g. ``"weierstrass_mandelbrot"``, earlier preprocessing steps are kept), plus the
+    reading record (``file``, ``format``, ``units``).
+    """
+    metadata = dict(raw.metadata)
+    stored = metadata.pop("stored_metadata", None)
+    if isinstance(stored, Mapping) and stored:
+        merged = {str(k): v for k, v in stored.items()}
+        merged.update({k: v for k, v in metadata.items() if k != "source"})
+        merged.setdefault("source", str(path))
+        metadata = merged
+    metadata["file"] = str(path)
+    return RawProfile(raw.x, raw.z, rows=raw.rows, x_resolution=raw.x_resolution, metadata=metadata)
+
+
+def _read_raw(
+    p: Path,
+    *,
+    format: str | None,
+    unit: str | None,
+    height_unit: str | None,
+    spacing: float | None,
+    line: int | None,
+) -> RawProfile:
     if format is None:
         fmt = detect_format(p)
     else:
@@ -277,8 +309,10 @@ def read_profile(
     Returns
     -------
     Profile
-        ``metadata`` records ``source`` (the file), ``format``, ``units`` (file units, where
-        they came from and the factors to µm) and ``preprocessing`` (the steps applied).
+        ``metadata`` records ``file`` and ``source`` (both the file; for a file written by
+        :func:`write_profile`, ``source`` and the other stored metadata are restored),
+        ``format``, ``units`` (file units, where they came from and the factors to µm) and
+        ``preprocessing`` (the steps applied, after any stored ones).
 
     Raises
     ------
