@@ -44,6 +44,7 @@ import math
 import multiprocessing
 import os
 import shutil
+import signal
 import time
 import uuid
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -493,11 +494,17 @@ def _run_serial(
         yield run_batch(task, func)
 
 
+def _ignore_sigint() -> None:
+    """Worker processes leave Ctrl-C to the main process, which stops them."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _run_pool(
     tasks: Sequence[BatchTask], func: RealizationFunction | None, workers: int
 ) -> Iterator[BatchResult | _Lost]:
     context = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_ignore_sigint)
+    finished = False
     try:
         pending: dict[Future[BatchResult], BatchTask] = {
             pool.submit(run_batch, task, func): task for task in tasks
@@ -510,8 +517,17 @@ def _run_pool(
                     yield future.result()
                 except Exception as exc:
                     yield _Lost(task, _one_line(exc))
+        finished = True
     finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+        if finished:
+            pool.shutdown(wait=True)
+        else:
+            # Interrupted (Ctrl-C, an error while writing): stop now; running batches are lost
+            # (not stored, so run again) rather than waited for.
+            processes = list(getattr(pool, "_processes", {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:
+                process.terminate()
 
 
 def _run_distributed(
