@@ -603,19 +603,23 @@ def plot_contact_zoom(
     displacement : float
         δ_N at that step [µm]; the upper body is lowered by it.
     xlim : (float, float), optional
-        Window [µm]; default: ±25 grid spacings around the contact with the largest force.
+        Window [µm]; default: the 60 grid spacings holding the most accepted contacts.
     """
     from .spheres import surface_spheres
 
     ax = new_axes(ax)
     s = NM_PER_UM
     if xlim is None:
+        half_w = 30 * lower_fit.dx
         if record.point.size:
-            j = int(np.argmax(record.normal_force))
-            xc = float(lower_fit.x[record.point[j]])
+            xs = np.sort(lower_fit.x[record.point])
+            # the window of 60 grid spacings holding the most accepted contacts
+            counts = np.searchsorted(xs, xs + 2 * half_w, side="right") - np.arange(xs.size)
+            j = int(np.argmax(counts))
+            xc = 0.5 * (float(xs[j]) + float(xs[j + counts[j] - 1]))
         else:
             xc = float(lower_fit.x[np.argmax(lower_fit.f)])
-        xlim = (xc - 25 * lower_fit.dx, xc + 25 * lower_fit.dx)
+        xlim = (xc - half_w, xc + half_w)
     sel = _window(lower_fit.x, xlim)
     zu, offset = _upper_global(lower_fit, upper_fit)
     zu = zu - displacement
@@ -640,7 +644,9 @@ def plot_contact_zoom(
                     fill=False,
                     color="red",
                     lw=0.8,
-                    label="accepted contact spheres" if n == 0 else None,
+                    label="accepted contact spheres\n(solid lower, dashed upper)"
+                    if n == 0
+                    else None,
                 )
             )
         if sph_u is not None and sph_u.curvature[i] != 0:
@@ -665,6 +671,7 @@ def plot_contact_zoom(
     ax.set_xlim((xm - half) * s, (xm + half) * s)
     ax.set_ylim((zm - half) * s, (zm + half) * s)
     ax.set_aspect("equal", adjustable="box")
+    ax.ticklabel_format(useOffset=False)
     ax.set_xlabel("x [nm]")
     ax.set_ylabel("z [nm]")
     ax.set_title(
@@ -894,7 +901,7 @@ def make_illustrative_figures(
     written["fig08_first_contact"] = _save_axes(ax, out_dir / "fig08_first_contact")
 
     steps = int(sim.get("steps", 1000))
-    step = max(1, steps // 20)
+    step = max(1, steps // 4)
     result = simulate(lower, upper, record_contacts=[step], **sim)
     record = result.contacts[0]
     ax = new_axes(figsize=(8, 5.2))
