@@ -96,6 +96,21 @@ def _many(realizations: int) -> float:
     return float(out.stdout.strip())
 
 
+def _study_command(realizations: int) -> float | None:
+    """Wall time of ``splinecontact study run`` on benchmarks/study-100.toml (all local cores)."""
+    if realizations != 100:
+        return None
+    here = os.path.dirname(os.path.abspath(__file__))
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        subprocess.run(
+            ["splinecontact", "study", "run", os.path.join(here, "study-100.toml"),
+             "-o", os.path.join(tmp, "s.zarr"), "--quiet"],
+            check=True, capture_output=True,
+        )  # fmt: skip
+        return time.perf_counter() - t0
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", nargs="+", type=float, default=[1e4, 1e5, 1e6, 1e7])
@@ -135,6 +150,10 @@ def main() -> None:
         wall = _many(args.realizations)
         print(f"{args.realizations} realizations at 10⁶ points, one process: {wall:.1f} s "
               f"({wall / args.realizations:.3f} s each; paper: ~216 s each)")  # fmt: skip
+        study = _study_command(args.realizations)
+        if study is not None:
+            print(f"`splinecontact study run benchmarks/study-100.toml` ({os.cpu_count()} cores):"
+                  f" {study:.1f} s wall")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -50,3 +50,16 @@ def test_bad_parameters(alpha: float, x0: float) -> None:
     p = Profile(np.linspace(0, 1, 10), np.zeros(10))
     with pytest.raises(ParameterError):
         fit_spline(p, alpha=alpha, x0=x0)
+
+
+def test_smoothing_length_is_where_a_sinusoid_keeps_half_its_amplitude() -> None:
+    """(λ·dx)^(1/4) is a length: a sine of wavelength 2π(λ·dx)^(1/4) keeps half its amplitude."""
+    dx = 1e-4
+    x = np.arange(200_001) * dx
+    fit0 = fit_spline(Profile(x, np.zeros_like(x)))
+    cutoff = 2 * np.pi * fit0.smoothing_length
+    assert cutoff == pytest.approx(3.5e-3, rel=0.02)  # PHYSICS.md: ~3.5 nm at the paper's grid
+    fit = fit_spline(Profile(x, np.sin(2 * np.pi * x / cutoff)))
+    middle = slice(50_000, 150_000)
+    amplitude = np.max(np.abs(fit.f[middle]))
+    assert amplitude == pytest.approx(0.5, abs=0.01)

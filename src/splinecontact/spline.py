@@ -67,8 +67,13 @@ class SplineFit:
 
     @property
     def smoothing_length(self) -> float:
-        """λ^(1/4) [µm]: wavelengths much shorter than about 2π·λ^(1/4) are smoothed away."""
-        return float(self.lam**0.25)
+        """(λ·dx)^(1/4) [µm], the spline's smoothing length.
+
+        The sum Σ(z − f)² approximates ∫(z − f)² dx / dx, so the continuous penalty weight is
+        λ·dx [µm⁴]. A wavelength ℓ keeps half its amplitude at ℓ = 2π(λ·dx)^(1/4) (3.5 nm at
+        the paper's 10⁶ points over 100 µm with α = 2); shorter ones are smoothed away.
+        """
+        return float((self.lam * self.dx) ** 0.25)
 
 
 def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> float:
