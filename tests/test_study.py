@@ -394,3 +394,28 @@ def test_parameters_are_passed_to_the_engine(tmp_path: Path) -> None:
     assert force[1] == pytest.approx(2 * force[0], rel=1e-12)  # F ∝ E* (eq. 10)
     assert ds.attrs["mu0"] == 0.0
     assert set(PARAMETERS) - {"g_star", "final_displacement", "e_star"} <= set(ds.attrs)
+
+
+def test_swept_steps_pad_with_nan_and_unswept_study_has_no_grid_dims(tmp_path: Path) -> None:
+    base = {"study": {"name": "s", "seed": 1, "realizations": 2}}
+    fixed = {"n_points": 2000, "dimension": 1.4}
+    out = tmp_path / "steps.zarr"
+    run_study({**base, "fixed": fixed, "sweep": {"steps": [10, 5]}}, out, workers=1, progress=False)
+    ds = open_study(out)
+    assert ds["normal_force"].dims == ("steps", "realization", "step")
+    assert ds.sizes["step"] == 11
+    short = ds["displacement"].sel(steps=5).values
+    assert np.isfinite(short[:, :6]).all() and np.isnan(short[:, 6:]).all()
+    assert np.isfinite(ds["displacement"].sel(steps=10).values).all()
+    assert ds.attrs["dimension"] == 1.4
+    assert "steps" not in ds.attrs
+    assert parameter_value(ds, "steps", steps=1) == 5
+
+    plain = tmp_path / "plain.zarr"
+    summary = run_study({**base, "fixed": {**fixed, "steps": 5}}, plain, workers=1, progress=False)
+    assert summary.ok == 2 and summary.failures == ()
+    flat = open_study(plain)
+    assert flat["normal_force"].dims == ("realization", "step")
+    assert flat["status"].dims == ("realization",)
+    # Same seed, same realization, same parameters: the same numbers as inside the sweep.
+    assert flat["displacement"].values.tobytes() == short[:, :6].tobytes()
