@@ -25,7 +25,9 @@ def run(
     out: Annotated[Path, typer.Option("-o", "--out", help="Zarr store to write (a directory).")],
     workers: Annotated[
         int | None,
-        typer.Option("--workers", min=1, help="Local worker processes [default: cores available]."),
+        typer.Option(
+            "--workers", min=1, help="Local worker processes (default: the cores available)."
+        ),
     ] = None,
     scheduler: Annotated[
         str | None,
@@ -36,7 +38,7 @@ def run(
     ] = None,
     batch_size: Annotated[
         int | None,
-        typer.Option("--batch-size", min=1, help="Realizations per task [default: automatic]."),
+        typer.Option("--batch-size", min=1, help="Realizations per task (default: automatic)."),
     ] = None,
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No progress bar, no summary.")
