@@ -134,6 +134,26 @@ def test_reproduce_tiny_writes_every_promised_file(tmp_path: Path) -> None:
     assert [f["key"] for f in data["findings"]] == list("abcde")
     verdicts = {"reproduced", "partly reproduced", "not reproduced", "undetermined"}
     assert {f["verdict"] for f in data["findings"]} <= verdicts
+    # `plot` redraws the study figures from the store, with the alternative κ choices
+    figs = tmp_path / "figs"
+    result = CliRunner().invoke(
+        app,
+        [
+            "plot",
+            str(out / "study.zarr"),
+            "-o",
+            str(figs),
+            "--no-illustrative",
+            "--rsq-method",
+            "spline",
+            "--fit-fraction",
+            "0.1",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    for name in FIGURES[5:]:
+        assert (figs / f"{name}.png").stat().st_size > 0
+        assert (figs / f"{name}.svg").stat().st_size > 0
 
 
 def test_reproduce_rejects_unknown_scale(tmp_path: Path) -> None:

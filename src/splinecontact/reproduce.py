@@ -461,15 +461,20 @@ def _finding_d(kap: xr.Dataset, seed: int) -> Finding:
             [
                 f"{di:g}",
                 f"{2 - di:.2g}",
-                f"{_fmt(m)} [{_fmt(lo)}, {_fmt(hi)}]",
+                f"{_fmt(m, 4)} [{_fmt(lo)}, {_fmt(hi)}]",
                 "yes" if analysis.PERSSON_KAPPA <= m <= analysis.BUSH_KAPPA else "no",
+                "yes" if hi >= analysis.PERSSON_KAPPA and lo <= analysis.BUSH_KAPPA else "no",
             ]
             for di, m, lo, hi in zip(
                 d, mean, sub["kappa_ci_low"].values, sub["kappa_ci_high"].values, strict=True
             )
         ]
         f.tables.append(
-            (f"{ctype}: κ per D", ["D", "H = 2 − D", "mean κ [95 % CI]", "in band"], rows)
+            (
+                f"{ctype}: κ per D",
+                ["D", "H = 2 − D", "mean κ [95 % CI]", "mean in band", "CI overlaps band"],
+                rows,
+            )
         )
         f.tables.append(
             (f"{ctype}: trend of κ over D ≥ 1.6", ["ρ", "95 % CI of ρ", "p"], [_trend_row(t)])
