@@ -419,3 +419,18 @@ def test_swept_steps_pad_with_nan_and_unswept_study_has_no_grid_dims(tmp_path: P
     assert flat["status"].dims == ("realization",)
     # Same seed, same realization, same parameters: the same numbers as inside the sweep.
     assert flat["displacement"].values.tobytes() == short[:, :6].tobytes()
+
+
+def test_store_of_another_engine_code_is_refused(reference: Path, tmp_path: Path) -> None:
+    import shutil
+
+    import zarr
+
+    from splinecontact.study import engine_fingerprint
+
+    assert open_study(reference).attrs["engine_fingerprint"] == engine_fingerprint()
+    out = tmp_path / "old.zarr"
+    shutil.copytree(reference, out)
+    zarr.open_group(out, mode="r+").attrs.update({"engine_fingerprint": "0123456789abcdef"})
+    with pytest.raises(StudyStoreError, match=r"simulation code changed.*0123456789abcdef"):
+        run_study(TINY, out, workers=1, progress=False)

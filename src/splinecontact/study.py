@@ -37,9 +37,12 @@ inject a failing realization and a fast stand-in engine.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import datetime as _dt
 import fcntl
+import functools
+import hashlib
 import math
 import multiprocessing
 import os
@@ -71,6 +74,7 @@ __all__ = [
     "FailedRealization",
     "StudyExecutionError",
     "StudySummary",
+    "engine_fingerprint",
     "export_netcdf",
     "open_study",
     "parameter_value",
@@ -116,6 +120,49 @@ RealizationFunction = Callable[[Mapping[str, Any], np.random.SeedSequence], Any]
 
 class StudyExecutionError(SplineContactError):
     """Some batches could not be run (a worker died, the scheduler is unreachable, ...)."""
+
+
+# --- provenance ---------------------------------------------------------------------------------
+
+#: Modules of the runner itself: not part of the engine fingerprint.
+_RUNNER_MODULES = frozenset({"study", "config"})
+
+
+@functools.cache
+def engine_fingerprint() -> str:
+    """SHA-256 (16 hex digits) of the source of every package module a realization runs.
+
+    The modules are found by following the package-relative imports of this module (those
+    inside functions too), so a new engine module is covered without a list to maintain. The
+    runner's own modules (study, config) are excluded. A store records it; resuming with
+    another fingerprint is refused, because the store would mix results of two codes.
+    """
+    root = Path(__file__).resolve().parent
+    todo, seen = ["study"], set()
+    digest = hashlib.sha256()
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        file = root.joinpath(*name.split(".")).with_suffix(".py")
+        if not file.is_file():
+            file = root.joinpath(*name.split("."), "__init__.py")
+            if not file.is_file():
+                continue
+        seen.add(name)
+        source = file.read_bytes()
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                if node.module:
+                    todo.append(node.module)
+                else:
+                    todo.extend(alias.name for alias in node.names)
+    for name in sorted(seen - _RUNNER_MODULES):
+        file = root.joinpath(*name.split(".")).with_suffix(".py")
+        if not file.is_file():
+            file = root.joinpath(*name.split("."), "__init__.py")
+        digest.update(name.encode() + b"\0" + file.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
 
 
 # --- one realization ----------------------------------------------------------------------------
@@ -344,6 +391,7 @@ def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]
             "study_toml": config.to_toml(),
             "study_seed": config.study.seed,
             "splinecontact_version": __version__,
+            "engine_fingerprint": engine_fingerprint(),
             "units_convention": (
                 "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
             ),
@@ -413,6 +461,12 @@ def _prepare_store(path: Path, config: StudyConfig, *, overwrite: bool) -> None:
             version = attrs.get("splinecontact_version")
             if diff is None and version != __version__:
                 diff = f"splinecontact version {version} wrote the store, this is {__version__}"
+            fingerprint = attrs.get("engine_fingerprint")
+            if diff is None and fingerprint != engine_fingerprint():
+                diff = (
+                    "the simulation code changed since the store was started (engine "
+                    f"fingerprint {fingerprint} in the store, {engine_fingerprint()} now)"
+                )
             if diff is None:
                 return
             if not overwrite:
@@ -564,7 +618,7 @@ def _connect(scheduler: Any) -> tuple[Any, bool]:
 
 
 def _worker_version() -> str:
-    return __version__
+    return f"{__version__} (engine {engine_fingerprint()})"
 
 
 def _check_workers(client: Any) -> None:
@@ -576,12 +630,13 @@ def _check_workers(client: Any) -> None:
             f"the Dask workers cannot run splinecontact ({_one_line(exc)}); install the same "
             f"splinecontact {__version__} on every worker"
         ) from None
-    wrong = {worker: v for worker, v in versions.items() if v != __version__}
+    mine = _worker_version()
+    wrong = {worker: v for worker, v in versions.items() if v != mine}
     if wrong:
         worker, version = next(iter(wrong.items()))
         raise StudyExecutionError(
-            f"Dask worker {worker} has splinecontact {version}, this is {__version__}; install "
-            "the same version on every worker"
+            f"Dask worker {worker} has splinecontact {version}, this is {mine}; install "
+            "the same code on every worker"
         )
 
 
