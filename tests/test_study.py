@@ -313,41 +313,35 @@ def _done(store: Path) -> int:
         return 0
 
 
-def test_sigkill_midway_then_resume_equals_uninterrupted_run(tmp_path: Path) -> None:
+@pytest.mark.parametrize("workers", [1, 2])
+def test_sigkill_midway_then_resume_equals_uninterrupted_run(tmp_path: Path, workers: int) -> None:
+    """kill -9 of the main process (alone, or with its pool), then resume with another count."""
+    import psutil
+
     study_file = tmp_path / "kill.toml"
     study_file.write_text(KILL_STUDY, encoding="utf-8")
     killed = tmp_path / "killed.zarr"
+    args = [*CLI, "study", "run", str(study_file), "-o", str(killed), "--quiet"]
     proc = subprocess.Popen(
-        [
-            *CLI,
-            "study",
-            "run",
-            str(study_file),
-            "-o",
-            str(killed),
-            "--workers",
-            "1",
-            "--batch-size",
-            "1",
-            "--quiet",
-        ],
+        [*args, "--workers", str(workers), "--batch-size", "1"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
     deadline = time.monotonic() + 120
     while _done(killed) < 2 and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.01)
+    children = psutil.Process(proc.pid).children(recursive=True)
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()
     done_at_kill = _done(killed)
     assert proc.returncode == -signal.SIGKILL
     assert 2 <= done_at_kill < 24, "the run must be killed midway"
+    # The pool's workers do not outlive the killed main process.
+    _, alive = psutil.wait_procs(children, timeout=60)
+    assert not alive
     # Resume with another worker count and batch size.
     resumed = subprocess.run(
-        [*CLI, "study", "run", str(study_file), "-o", str(killed), "--workers", "2", "--quiet"],
-        capture_output=True,
-        text=True,
-        check=False,
+        [*args, "--workers", str(3 - workers)], capture_output=True, text=True, check=False
     )
     assert resumed.returncode == 0, resumed.stderr
     assert _done(killed) == 24

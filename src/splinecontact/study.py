@@ -48,6 +48,7 @@ import multiprocessing
 import os
 import shutil
 import signal
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -548,16 +549,30 @@ def _run_serial(
         yield run_batch(task, func)
 
 
-def _ignore_sigint() -> None:
-    """Worker processes leave Ctrl-C to the main process, which stops them."""
+def _init_worker(parent: int) -> None:
+    """Set up a pool worker: leave Ctrl-C to the main process, and die with it.
+
+    The main process stops its workers when interrupted; if it is killed (``kill -9``) it
+    cannot, so a watchdog thread ends the worker once its parent (``parent``, the pid of the
+    main process, given explicitly in case it died while this worker was starting) is gone.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="splinecontact-parent-watchdog", daemon=True).start()
 
 
 def _run_pool(
     tasks: Sequence[BatchTask], func: RealizationFunction | None, workers: int
 ) -> Iterator[BatchResult | _Lost]:
     context = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_ignore_sigint)
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=context, initializer=_init_worker, initargs=(os.getpid(),)
+    )
     finished = False
     try:
         pending: dict[Future[BatchResult], BatchTask] = {
