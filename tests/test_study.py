@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import signal
@@ -15,6 +16,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from rich.console import Console
 
 from splinecontact.config import PARAMETERS, parse_study
 from splinecontact.errors import StudyStoreError
@@ -27,6 +29,7 @@ from splinecontact.study import (
     _locked,
     open_study,
     parameter_value,
+    print_summary,
     realization_seed,
     run_study,
     simulate_realization,
@@ -84,7 +87,7 @@ def fail_one_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         and parameters["contact_type"] == "rough-on-flat"
         and seed.spawn_key == (1,)
     ):
-        raise RuntimeError("injected failure\nwith a second line")
+        raise RuntimeError("injected [/] failure\nwith a second line")
     return simulate_realization(parameters, seed)
 
 
@@ -218,7 +221,11 @@ def test_failing_realization_is_recorded_and_study_completes(tmp_path: Path) -> 
     (failure,) = summary.failures
     assert failure.grid == {"dimension": 1.7, "contact_type": "rough-on-flat"}
     assert failure.realization == 1
-    assert failure.message == "RuntimeError: injected failure with a second line"
+    assert failure.message == "RuntimeError: injected [/] failure with a second line"
+    text = io.StringIO()
+    print_summary(summary, Console(file=text, width=200))
+    assert "1 failed" in text.getvalue()
+    assert f"realization=1: {failure.message}" in text.getvalue()
     ds = open_study(out)
     status = ds["status"].values
     assert status[1, 1, 1] == STATUS_FAILED

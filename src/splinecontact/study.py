@@ -745,27 +745,29 @@ def _summarize(
 def print_summary(summary: StudySummary, console: Any = None, *, max_failures: int = 20) -> None:
     """Print the summary of a study run (counts, failures, wall time) with rich."""
     from rich.console import Console
+    from rich.markup import escape
 
     console = Console() if console is None else console
     state = "complete" if summary.complete else "incomplete"
     console.print(
         f"[bold]study {state}[/bold]: {summary.ok} ok, {summary.failed} failed, "
         f"{summary.not_run} not run, of {summary.total} realizations "
-        f"({summary.ran_now} run now, wall time {summary.wall_time:.1f} s) → {summary.store}",
+        f"({summary.ran_now} run now, wall time {summary.wall_time:.1f} s) → "
+        f"{escape(str(summary.store))}",
         highlight=False,
     )
     for failure in summary.failures[:max_failures]:
         where = ", ".join(f"{k}={v}" for k, v in failure.grid.items())
         where = f"{where}, " if where else ""
         console.print(
-            f"  [red]failed[/red] {where}realization={failure.realization}: {failure.message}",
+            f"  [red]failed[/red] {escape(where)}realization={failure.realization}: "
+            f"{escape(failure.message)}",
             highlight=False,
-            markup=True,
         )
     if len(summary.failures) > max_failures:
         console.print(f"  … and {len(summary.failures) - max_failures} more failures")
     for reason in summary.lost[:max_failures]:
-        console.print(f"  [yellow]not run[/yellow] {reason}", highlight=False)
+        console.print(f"  [yellow]not run[/yellow] {escape(reason)}", highlight=False)
     if not summary.complete:
         console.print("Run the same command again to continue.", highlight=False)
 
