@@ -405,6 +405,8 @@ def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]
 
 def _create_store(path: Path, config: StudyConfig) -> None:
     """Create the empty store atomically (built beside ``path``, then renamed)."""
+    for stale in path.parent.glob(f".{path.name}.creating-*"):  # left by a killed creation
+        shutil.rmtree(stale, ignore_errors=True)
     tmp = path.with_name(f".{path.name}.creating-{uuid.uuid4().hex}")
     try:
         dataset, encoding = _template(config)
