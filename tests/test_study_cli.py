@@ -180,3 +180,69 @@ def test_export_of_a_missing_store_is_one_line(tmp_path: Path) -> None:
     assert proc.returncode == 1
     assert proc.stderr.strip().startswith("error: StudyStoreError: study store")
     assert "Traceback" not in proc.stderr
+
+
+CTRL_C_STUDY = """
+[study]
+name = "ctrl-c"
+seed = 4
+realizations = 12
+
+[fixed]
+n_points = 50_000
+steps = 100
+
+[sweep]
+dimension = [1.2, 1.5]
+"""
+
+
+def _done(store: Path) -> int:
+    import zarr
+
+    try:
+        return int((zarr.open_group(store, mode="r")["status"][...] != 0).sum())
+    except Exception:
+        return 0
+
+
+def test_ctrl_c_stops_with_status_130_and_the_study_resumes(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    path = tmp_path / "c.toml"
+    path.write_text(CTRL_C_STUDY, encoding="utf-8")
+    out = tmp_path / "c.zarr"
+    args = [CLI, "study", "run", str(path), "-o", str(out), "--workers", "2", "--batch-size", "1"]
+    master, slave = pty.openpty()
+    proc = subprocess.Popen(
+        args, stdin=slave, stdout=slave, stderr=slave, env=_env(), start_new_session=True
+    )
+    os.close(slave)
+    deadline = time.monotonic() + 120
+    while _done(out) < 2 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C goes to the terminal's foreground group
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(master, 65536)
+        except OSError:
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(master)
+    assert proc.wait(timeout=60) == 130
+    output = re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", b"".join(chunks).decode(errors="replace"))
+    assert "error: interrupted; everything finished is stored in" in output
+    assert "Traceback" not in output
+    assert 2 <= _done(out) < 24
+    resumed = subprocess.run([*args, "-q"], capture_output=True, text=True, check=False)
+    assert resumed.returncode == 0, resumed.stderr
+    whole = tmp_path / "whole.zarr"
+    run_study(path, whole, workers=1, progress=False)
+    a, b = open_study(out), open_study(whole)
+    for name in a.data_vars:
+        assert a[name].values.tobytes() == b[name].values.tobytes() or name == "error", name
+    assert (a["error"].values == b["error"].values).all()
