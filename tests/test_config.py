@@ -6,6 +6,8 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from splinecontact.config import PARAMETERS, StudyConfig, load_study, parse_study
 from splinecontact.errors import StudyConfigError
@@ -156,3 +158,37 @@ def test_every_parameter_is_documented() -> None:
     for name, spec in PARAMETERS.items():
         assert f"| `{name}` |" in docs, name
         assert spec.description
+
+
+finite = {"allow_nan": False, "allow_infinity": False}
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    name=st.text(min_size=1, max_size=20),
+    description=st.text(max_size=30),
+    seed=st.integers(0, 2**63 - 1),
+    dimensions=st.lists(st.floats(1.0, 2.0, **finite), min_size=1, max_size=4, unique=True),
+    e_star=st.floats(1e-300, 1e300, **finite),
+    ra=st.floats(min_value=5e-324, max_value=1e3, **finite).filter(lambda v: v > 0),
+    steps=st.integers(1, 10**9),
+)
+def test_resolved_toml_round_trips_exactly(
+    name: str,
+    description: str,
+    seed: int,
+    dimensions: list[float],
+    e_star: float,
+    ra: float,
+    steps: int,
+) -> None:
+    cfg = parse_study(
+        {
+            "study": {"name": name, "seed": seed, "realizations": 2, "description": description},
+            "fixed": {"e_star": e_star, "ra": ra, "steps": steps},
+            "sweep": {"dimension": dimensions},
+        }
+    )
+    again = parse_study(tomllib.loads(cfg.to_toml()))
+    assert again.identity() == cfg.identity()
+    assert again.to_toml() == cfg.to_toml()
