@@ -460,3 +460,14 @@ def test_batches_straddling_chunks_store_the_same_values(
             assert a[name].values.tobytes() == b[name].values.tobytes(), name
         else:
             assert (a[name].values == b[name].values).all(), name
+
+
+def test_overwrite_refuses_a_store_being_written(reference: Path, tmp_path: Path) -> None:
+    import shutil
+
+    out = tmp_path / "busy.zarr"
+    shutil.copytree(reference, out)
+    changed = {**TINY, "study": {**TINY["study"], "seed": 1}}
+    with _locked(out), pytest.raises(StudyStoreError, match="another running study"):
+        run_study(changed, out, workers=1, progress=False, overwrite=True)
+    assert open_study(out).attrs["study_seed"] == 2015

@@ -27,7 +27,7 @@ realization, step) and of ``SCALAR_VARIABLES`` on (grid…, realization), float6
 run or failed); ``status`` int8 (0 not run, 1 ok, 2 failed); ``error`` (message, "" if ok);
 ``seed_spawn_key`` (realization). Attributes: every fixed parameter under its name (parameters
 left at the engine default ``None``, e.g. ``g_star``, are absent), ``study_toml``,
-``study_seed``, ``splinecontact_version``, ``started``, ``finished``.
+``study_seed``, ``splinecontact_version``, ``engine_fingerprint``, ``started``, ``finished``.
 
 Testing hook: :func:`run_study` takes ``realization_function`` (default
 :func:`simulate_realization`), any picklable module-level callable
@@ -478,7 +478,8 @@ def _prepare_store(path: Path, config: StudyConfig, *, overwrite: bool) -> None:
                     "path, or --overwrite to discard the store and start again"
                 )
         if path.is_dir():
-            shutil.rmtree(path)
+            with _locked(path):  # refuse to discard a store another run is writing
+                shutil.rmtree(path)
         else:
             path.unlink()
     _create_store(path, config)
@@ -774,7 +775,7 @@ def print_summary(summary: StudySummary, console: Any = None, *, max_failures: i
         console.print("Run the same command again to continue.", highlight=False)
 
 
-def _progress(enabled: bool, total: int, completed: int) -> Any:
+def _progress(enabled: bool) -> Any:
     from rich.console import Console
     from rich.progress import (
         BarColumn,
@@ -910,7 +911,7 @@ def run_study(
                 results = _run_pool(tasks, realization_function, min(n_workers, len(tasks)))
             ran_now = 0
             lost: list[str] = []
-            bar = _progress(progress, int(status.size), n_done)
+            bar = _progress(progress)
             with bar:
                 task_id = bar.add_task("study", total=int(status.size), completed=n_done)
                 try:
