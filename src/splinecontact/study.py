@@ -886,9 +886,9 @@ def run_study(
         raise StudyConfigError(f"workers = {workers}: must be ≥ 1")
     if batch_size is not None and batch_size < 1:
         raise StudyConfigError(f"batch_size = {batch_size}: must be ≥ 1")
-    _prepare_store(path, config, overwrite=overwrite)
     client, own_client = (None, False) if scheduler is None else _connect(scheduler)
     try:
+        _prepare_store(path, config, overwrite=overwrite)
         with _locked(path):
             _remove_partial_files(path)
             writer = _Writer(path)
