@@ -573,36 +573,41 @@ def _pk_load(
     conjugate = False
     residual = np.inf
     for iteration in range(max_iterations + 1):
-        g = _apply(lam, p) - z
+        g = _apply(lam, p)
+        g -= z
         loaded = p > 0.0
-        separation = -float(g[loaded].mean())
+        mask = loaded.astype(np.float64)
+        count = float(mask.sum())
+        separation = -_dot(g, mask) / count
         g += separation
-        residual = _residual(g, loaded, scale)
+        g_loaded = g * mask
+        free_overlap = -min(float(np.where(loaded, 0.0, g).min()), 0.0)
+        residual = max(float(np.abs(g_loaded).max()), free_overlap) / scale
         if residual <= tol:
             return _Solution(p, g, separation, iteration, residual)
         if iteration == max_iterations:
             break
-        g_loaded = np.where(loaded, g, 0.0)
-        g_norm = float(_dot(g_loaded, g_loaded))
+        g_norm = _dot(g_loaded, g_loaded)
         if conjugate and g_norm_old > 0.0:
-            t = g_loaded + (g_norm / g_norm_old) * t
+            t *= g_norm / g_norm_old
+            t += g_loaded
+            t *= mask
         else:
-            t = g_loaded
-        t[~loaded] = 0.0
+            t = g_loaded.copy()
         g_norm_old = g_norm
         r = _apply(lam, t)
-        r -= r[loaded].mean()
-        denominator = float(_dot(r[loaded], t[loaded]))
-        tau = float(_dot(g_loaded, t)) / denominator if denominator > 0.0 else tau_fallback
-        p = p - tau * t
-        p[p < 0.0] = 0.0
+        # Σ_loaded (r − mean_loaded r)·t, with t = 0 off the contact
+        denominator = _dot(r, t) - _dot(r, mask) / count * float(t.sum())
+        tau = _dot(g_loaded, t) / denominator if denominator > 0.0 else tau_fallback
+        p -= tau * t
+        np.maximum(p, 0.0, out=p)
         overlap = (p == 0.0) & (g < 0.0)
         if overlap.any():
             conjugate = False
             p[overlap] = -tau * g[overlap]
         else:
             conjugate = True
-        total = p.sum()
+        total = float(p.sum())
         if total <= 0.0:  # every node was released: restart at the deepest overlap
             p[np.argmin(g)] = 1.0
             total = 1.0
