@@ -104,7 +104,8 @@ def _study_command(realizations: int) -> float | None:
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         subprocess.run(
-            ["splinecontact", "study", "run", os.path.join(here, "study-100.toml"),
+            [sys.executable, "-m", "splinecontact", "study", "run",
+             os.path.join(here, "study-100.toml"),
              "-o", os.path.join(tmp, "s.zarr"), "--quiet"],
             check=True, capture_output=True,
         )  # fmt: skip

@@ -102,6 +102,9 @@ def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> fl
     return (dx / x0) ** alpha / 10.0 * x0**3
 
 
+_ULP2 = 2.0 * 2.220446049250313e-16
+
+
 @numba.njit(cache=True, nogil=True)
 def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
     grown = np.empty(capacity)
@@ -123,10 +126,10 @@ def _reinsch_uniform(
     a = 2.0 / 3.0 + 6.0 * lam_grid
     b = 1.0 / 6.0 - 4.0 * lam_grid
     c = lam_grid
-    # The factors of a Toeplitz matrix converge to a fixed point within a few hundred rows;
-    # once two consecutive rows agree bitwise every later row is identical, so they are stored
-    # only up to that row (``last``) and reused: the result is the same to the last bit, and
-    # the factor arrays stay small (they grow by doubling only while not converged).
+    # The factors of a Toeplitz matrix converge geometrically to a fixed point within a few
+    # hundred rows. Once two consecutive rows agree to 2 ulp (they may keep flipping the last
+    # bit), the later rows are taken equal to that row (``last``): a change far below the
+    # solve's own rounding error. The factor arrays stay small (they grow only while needed).
     capacity = min(m, 1024)
     d = np.empty(capacity)
     l1 = np.empty(capacity)
@@ -145,7 +148,12 @@ def _reinsch_uniform(
             l2[i] = c / d[i - 2]
             l1[i] = (b - l2[i] * l1[i - 1] * d[i - 2]) / d[i - 1]
             d[i] = a - l1[i] * l1[i] * d[i - 1] - l2[i] * l2[i] * d[i - 2]
-            if d[i] == d[i - 1] and l1[i] == l1[i - 1] and l2[i] == l2[i - 1] and i >= 3:
+            if (
+                i >= 3
+                and abs(d[i] - d[i - 1]) <= _ULP2 * abs(d[i])
+                and abs(l1[i] - l1[i - 1]) <= _ULP2 * abs(l1[i])
+                and abs(l2[i] - l2[i - 1]) <= _ULP2 * abs(l2[i])
+            ):
                 last = i
                 break
         else:

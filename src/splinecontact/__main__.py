@@ -1,0 +1,5 @@
+"""``python -m splinecontact``: the command line."""
+
+from .cli import main
+
+main()
