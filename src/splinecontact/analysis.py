@@ -937,18 +937,6 @@ def measured_hurst(profiles: Iterable[Any]) -> NDArray[np.float64]:
     return np.array([float(hurst_exponent(p)) for p in profiles], dtype=np.float64)
 
 
-_GENERATOR_KEYS = (
-    "n_points",
-    "length",
-    "wavelength",
-    "gamma",
-    "directions",
-    "n_max",
-    "ra",
-    "amplitude_law",
-)
-
-
 def study_hurst(ds: xr.Dataset, *, n_profiles: int = 3) -> xr.Dataset:
     """Measured Hurst exponent of a study's lower profiles beside the nominal H = 2 − D.
 
@@ -971,7 +959,7 @@ def study_hurst(ds: xr.Dataset, *, n_profiles: int = 3) -> xr.Dataset:
         On ``dimension``: ``hurst_nominal`` [1], ``hurst_measured_mean`` [1],
         ``hurst_measured_std`` [1] (ddof = 1; NaN for one profile), ``hurst_measured_count``.
     """
-    from .generate import child_seed, weierstrass_mandelbrot
+    from .generate import GENERATOR_PARAMETERS, child_seed, weierstrass_mandelbrot
     from .study import realization_seed
 
     if n_profiles < 1:
@@ -981,7 +969,7 @@ def study_hurst(ds: xr.Dataset, *, n_profiles: int = 3) -> xr.Dataset:
         raise AnalysisError("the study has no 'dimension' coordinate or attribute")
     seed = int(ds.attrs.get("study_seed", ds.attrs.get("seed", 0)))
     gen: dict[str, Any] = {}
-    for key in _GENERATOR_KEYS:
+    for key in GENERATOR_PARAMETERS:
         value = parameter(ds, key, default=None) if key in ds.attrs or key in ds.coords else None
         if value is None:
             continue

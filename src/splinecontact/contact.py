@@ -46,7 +46,25 @@ from .results import ContactRecord, SimulationResult
 from .spheres import own_frame_geometry
 from .spline import SplineFit, fit_spline
 
-__all__ = ["ContactGeometry", "contact_geometry", "run_loading", "simulate"]
+__all__ = [
+    "SIMULATION_PARAMETERS",
+    "ContactGeometry",
+    "contact_geometry",
+    "run_loading",
+    "simulate",
+]
+
+#: Keyword parameters of :func:`simulate` that describe the model (not ``record_contacts``).
+SIMULATION_PARAMETERS = (
+    "steps",
+    "final_displacement",
+    "final_displacement_factor",
+    "e_star",
+    "g_star",
+    "mu0",
+    "alpha",
+    "x0",
+)
 
 _QUARTER_PI = 0.25 * math.pi
 

@@ -31,6 +31,7 @@ from .errors import ParameterError
 from .profile import Profile
 
 __all__ = [
+    "GENERATOR_PARAMETERS",
     "AmplitudeLaw",
     "SeedLike",
     "as_seed_sequence",
@@ -43,6 +44,18 @@ AmplitudeLaw = Literal["hurst", "as_printed"]
 SeedLike = int | np.random.SeedSequence | np.random.Generator | None
 
 _BLOCK = 2048
+
+#: Keyword parameters of :func:`weierstrass_mandelbrot` besides ``dimension`` and ``seed``.
+GENERATOR_PARAMETERS = (
+    "n_points",
+    "length",
+    "wavelength",
+    "gamma",
+    "directions",
+    "n_max",
+    "ra",
+    "amplitude_law",
+)
 
 
 def as_seed_sequence(seed: int | np.random.SeedSequence | None) -> np.random.SeedSequence:

@@ -773,25 +773,15 @@ def make_study_figures(
 
 
 def _generator_kwargs(params: Mapping[str, Any]) -> dict[str, Any]:
-    names = (
-        "n_points",
-        "length",
-        "wavelength",
-        "gamma",
-        "directions",
-        "n_max",
-        "ra",
-        "amplitude_law",
-    )
-    return {n: params[n] for n in names if n in params}
+    from .generate import GENERATOR_PARAMETERS
+
+    return {n: params[n] for n in GENERATOR_PARAMETERS if n in params}
 
 
 def _simulate_kwargs(params: Mapping[str, Any]) -> dict[str, Any]:
-    names = ("steps", "final_displacement_factor", "e_star", "g_star", "mu0", "alpha", "x0")
-    out = {n: params[n] for n in names if n in params and params[n] is not None}
-    if "final_displacement" in params and params["final_displacement"] is not None:
-        out["final_displacement"] = params["final_displacement"]
-    return out
+    from .contact import SIMULATION_PARAMETERS
+
+    return {n: params[n] for n in SIMULATION_PARAMETERS if params.get(n) is not None}
 
 
 def _scalar(value: Any) -> Any:

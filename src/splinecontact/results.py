@@ -112,11 +112,12 @@ class ContactRecord:
     normal_z: NDArray[np.float64]
 
 
-def _jsonable(value: Any) -> Any:
+def jsonable(value: Any) -> Any:
+    """``value`` with numpy scalars/arrays and tuples turned into JSON-serialisable types."""
     if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, np.generic):
         return value.item()
     if isinstance(value, np.ndarray):
@@ -214,10 +215,10 @@ class SimulationResult:
         attrs: dict[str, Any] = {}
         for key, value in self.parameters.items():
             attrs[key] = (
-                value if isinstance(value, int | float | str) else json.dumps(_jsonable(value))
+                value if isinstance(value, int | float | str) else json.dumps(jsonable(value))
             )
-        attrs["lower_metadata"] = json.dumps(_jsonable(self.lower_metadata))
-        attrs["upper_metadata"] = json.dumps(_jsonable(self.upper_metadata))
+        attrs["lower_metadata"] = json.dumps(jsonable(self.lower_metadata))
+        attrs["upper_metadata"] = json.dumps(jsonable(self.upper_metadata))
         attrs["units_convention"] = (
             "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
         )

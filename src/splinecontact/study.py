@@ -63,7 +63,9 @@ from numpy.typing import NDArray
 
 from . import __version__
 from .config import PARAMETERS, StudyConfig, load_study, parse_study
+from .contact import SIMULATION_PARAMETERS
 from .errors import SplineContactError, StudyConfigError, StudyStoreError
+from .generate import GENERATOR_PARAMETERS
 from .results import SCALAR_VARIABLES, STEP_VARIABLES
 
 __all__ = [
@@ -95,26 +97,8 @@ _CHUNK_BYTES = 2**20
 #: Largest automatic batch (realizations per task).
 _MAX_AUTO_BATCH = 16
 
-_GENERATOR_KEYS = (
-    "n_points",
-    "length",
-    "wavelength",
-    "gamma",
-    "directions",
-    "n_max",
-    "ra",
-    "amplitude_law",
-)
-_SIMULATE_KEYS = (
-    "steps",
-    "final_displacement",
-    "final_displacement_factor",
-    "e_star",
-    "g_star",
-    "mu0",
-    "alpha",
-    "x0",
-)
+_GENERATOR_KEYS = GENERATOR_PARAMETERS
+_SIMULATE_KEYS = SIMULATION_PARAMETERS
 
 RealizationFunction = Callable[[Mapping[str, Any], np.random.SeedSequence], Any]
 

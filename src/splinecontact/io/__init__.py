@@ -33,13 +33,13 @@ import json
 import os
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from ..errors import ProfileReadError
 from ..preprocess import Preprocessing, RawProfile, to_profile
 from ..profile import Profile
+from ..results import jsonable
 from ._errors import (
     EmptyFileError,
     FormatMismatchError,
@@ -336,20 +336,6 @@ def read_profile(
 # --- writing ----------------------------------------------------------------------------------
 
 
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, str | int | float | bool) or value is None:
-        return value
-    return repr(value)
-
-
 def write_profile(profile: Profile, path: str | os.PathLike[str]) -> Path:
     """Write a profile so that :func:`read_profile` reads it back unchanged.
 
@@ -382,7 +368,7 @@ def write_profile(profile: Profile, path: str | os.PathLike[str]) -> Path:
         )
     stored = {
         "units": {"x": "µm", "z": "µm"},
-        "profile_metadata": _jsonable(dict(profile.metadata)),
+        "profile_metadata": jsonable(dict(profile.metadata)),
     }
     tmp = p.with_name(f".{p.name}.tmp-{os.getpid()}{suffix}")
     try:
