@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 from splinecontact.cli import app
@@ -96,3 +97,47 @@ def test_console_script_error_has_no_traceback(tmp_path: Path) -> None:
     lines = [line for line in proc.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("error: ParameterError")
     assert "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize(
+    ("option", "fragment"),
+    [
+        (["--steps", "0"], "steps"),
+        (["--e-star", "0"], "e_star"),
+        (["--e-star", "-5"], "e_star"),
+        (["--alpha", "0"], "alpha"),
+        (["--alpha", "-1"], "alpha"),
+    ],
+)
+def test_simulate_bad_parameters_are_one_line_and_write_nothing(
+    tmp_path: Path, option: list[str], fragment: str
+) -> None:
+    lower = tmp_path / "lower.npz"
+    runner.invoke(app, ["generate", "-o", str(lower), "--n-points", "2000", "--length", "0.2"])
+    out = tmp_path / "out.nc"
+    result = runner.invoke(
+        app, ["simulate", "--lower", str(lower), "--upper", "flat", "-o", str(out), *option]
+    )
+    assert result.exit_code != 0
+    assert fragment in result.output
+    assert "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_simulate_generated_dimension_out_of_range(tmp_path: Path) -> None:
+    out = tmp_path / "out.nc"
+    result = runner.invoke(
+        app,
+        [
+            "simulate",
+            "--lower",
+            "generated:D=2.5,n_points=2000,length=0.2",
+            "--upper",
+            "flat",
+            "-o",
+            str(out),
+        ],
+    )
+    assert result.exit_code != 0
+    assert "outside [1, 2]" in result.output
+    assert not out.exists()
