@@ -399,3 +399,28 @@ def test_reference_errors():
         ref.hertz_cylinder_half_width(-1.0, 1.0, 1.0)
     with pytest.raises(ParameterError, match="radius"):
         ref.hertz_cylinder_half_width(1.0, 0.0, 1.0)
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10_000), fraction=st.floats(0.03, 0.8))
+def test_displacement_and_load_control_agree(seed, fraction):
+    z = random_periodic(256, seed)
+    problem = bem.contact_problem(z, e_star=E_STAR, dx=0.05)
+    by_load = bem.solve_pressure(problem, fraction * problem.full_contact_pressure)
+    by_gap = bem.solve_gap(problem, by_load.mean_gap)
+    assert by_gap.mean_pressure == pytest.approx(by_load.mean_pressure, rel=1e-6)
+    assert by_gap.contact_nodes == by_load.contact_nodes
+
+
+def test_rough_load_path_to_ten_percent_contact():
+    # the benchmark case at a quarter of its size: every step converges, contact grows
+    z = random_periodic(2**14, 1, hurst=0.8)
+    dx = 100.0 / z.size
+    slope = np.sqrt(np.mean((np.roll(z, -1) - z) ** 2)) / dx
+    problem = bem.contact_problem(z * 0.1 / slope, e_star=E_STAR, dx=dx)
+    loads = 0.048 * E_STAR * 0.1 * np.arange(1, 26) / 25
+    path = bem.load_path(problem, loads)
+    fraction = path.column("contact_nodes") / problem.n_points
+    assert 0.05 < fraction[-1] < 0.2
+    assert np.all(np.diff(path.column("mean_gap")) < 0)
+    assert np.all(path.column("residual") <= bem.DEFAULT_TOLERANCE)
