@@ -106,3 +106,12 @@ def test_compare_bad_input_is_one_line(tmp_path: Path, args: list[str], message:
     assert result.exit_code == 1
     assert message in result.output
     assert "Traceback" not in result.output
+
+
+def test_compare_without_contact_force_is_an_error() -> None:
+    from splinecontact.errors import ParameterError
+
+    x = np.arange(256) * 0.01
+    flat = Profile(x, np.zeros_like(x))
+    with pytest.raises(ParameterError, match="no SAD step"):
+        compare_profiles(flat, "flat", steps=10, final_displacement=1e-3)

@@ -173,6 +173,12 @@ def compare_profiles(
             f"{len(chosen) - len(keep)} SAD force(s) at or beyond the exact full-contact force "
             f"{p_full * segment:.4g} mN/µm were skipped"
         )
+    if not keep:
+        raise ParameterError(
+            "no SAD step has a positive force below the exact full-contact force "
+            f"({p_full * segment:.4g} mN/µm; largest SAD force {force_curve.max():.4g} mN/µm); "
+            "change the final displacement or the number of steps"
+        )
     idx = np.asarray(keep, dtype=np.int64)
     forces = force_curve[idx]
     path = bem.load_path(problem, forces / segment, tol=tol, fields=True)
