@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from splinecontact import Profile
 from splinecontact.cli import app
-from splinecontact.cli._compare import COLUMNS, compare_profiles
+from splinecontact.compare import COLUMNS, compare_profiles
 
 runner = CliRunner()
 

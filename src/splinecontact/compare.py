@@ -1,0 +1,299 @@
+"""SAD against the exact elastic reference (BEM) on one geometry (``splinecontact compare``).
+
+Both methods see the same smoothed geometry: the SAD spline f(x_i) of each body (paper eqs. 2–3,
+:func:`splinecontact.spline.fit_spline`). SAD (:func:`splinecontact.simulate`) runs its
+displacement steps; at a selection of its forces the boundary element reference
+(:mod:`splinecontact.bem`) solves the exact plane-strain contact of the composite profile
+f_lower + f_upper against a flat at the same force. The profile is made periodic by appending
+its mirror image (:func:`splinecontact.bem.mirror_extend`), which is the segment between two
+frictionless symmetry walls; all BEM quantities are those of the original segment.
+
+Compared quantities (at equal force F per unit thickness [mN/µm]):
+
+* contact length: SAD's Hertz contact width Σ 2aᵢ = √2·A_S (with aᵢ = √(δᵢ R_eff,i/2), the
+  2D Hertz half-width of a line contact loaded by (π/4)E*δᵢ), SAD's A_S = Σ √(δᵢ R_eff,i) as the
+  paper defines it, and the exact contact length (sub-grid estimate and node count);
+* mean gap: SAD's mean separation (rigid bodies) and the exact mean gap (deformed surfaces),
+  both the distance between the mean lines;
+* approach: SAD's displacement δ_N from first contact and the exact mean-gap reduction;
+* counts: SAD's accepted contacts and the exact number of contact patches.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import bem
+from .errors import ParameterError
+from .profile import Profile
+
+__all__ = ["COLUMNS", "Comparison", "compare_profiles", "write_figure", "write_table"]
+
+#: Columns of the comparison table: name -> (units, description).
+COLUMNS: dict[str, tuple[str, str]] = {
+    "force": ("mN/µm", "normal force per unit thickness (SAD F_N; the BEM is solved at it)"),
+    "sad_step": ("1", "SAD displacement step"),
+    "sad_displacement": ("µm", "SAD displacement δ_N from first contact"),
+    "sad_contact_width": ("µm", "SAD Hertz contact width Σ 2a_i = √2 A_S"),
+    "sad_contact_area": ("µm", "SAD A_S = Σ √(δ_i R_eff,i) (paper's definition)"),
+    "sad_n_contacts": ("1", "SAD accepted contacts"),
+    "sad_mean_separation": ("µm", "SAD mean separation of the (rigid) mean lines"),
+    "bem_contact_length": ("µm", "exact contact length, loaded nodes × dx"),
+    "bem_contact_length_subgrid": ("µm", "exact contact length, sub-grid edges"),
+    "bem_n_patches": ("1", "exact number of contact patches"),
+    "bem_mean_gap": ("µm", "exact mean gap between the deformed mean lines"),
+    "bem_approach": ("µm", "exact approach (mean-gap reduction) from first contact"),
+    "ratio_width": ("1", "sad_contact_width / bem_contact_length_subgrid"),
+    "ratio_area": ("1", "sad_contact_area / bem_contact_length_subgrid"),
+    "mean_gap_error": ("1", "sad_mean_separation / bem_mean_gap − 1"),
+    "ratio_approach": ("1", "bem_approach / sad_displacement"),
+    "ratio_contacts": ("1", "bem_n_patches / sad_n_contacts"),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """SAD and the exact reference at matched forces.
+
+    Attributes
+    ----------
+    columns : dict of str to ndarray
+        One array per key of ``COLUMNS`` (units there), one entry per compared force.
+    parameters : dict
+        Grid, modulus, spline and solver settings, and the sources of the two profiles.
+    notes : tuple of str
+        Anything the reader must know (forces skipped beyond full contact, ...).
+    """
+
+    columns: dict[str, NDArray[np.float64]]
+    parameters: dict[str, Any]
+    notes: tuple[str, ...] = ()
+
+    def median(self, name: str) -> float:
+        """Median of one column over the compared forces (NaN entries ignored)."""
+        values = self.columns[name]
+        finite = values[np.isfinite(values)]
+        return float(np.median(finite)) if finite.size else float("nan")
+
+
+def _select_steps(force: NDArray[np.float64], n_forces: int) -> NDArray[np.int64]:
+    """SAD steps whose forces are closest above n_forces evenly spaced targets up to max F."""
+    positive = np.flatnonzero(force > 0.0)
+    if positive.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    top = float(force.max())
+    targets = top * np.arange(1, n_forces + 1) / n_forces
+    chosen: list[int] = []
+    for target in targets:
+        above = np.flatnonzero(force >= target * (1.0 - 1e-12))
+        if above.size:
+            chosen.append(int(above[0]))
+    return np.unique(np.asarray(chosen, dtype=np.int64))
+
+
+def compare_profiles(
+    lower: Profile,
+    upper: Profile | Literal["flat"] = "flat",
+    *,
+    e_star: float = 10.0,
+    steps: int = 1000,
+    final_displacement: float | None = None,
+    final_displacement_factor: float = 0.2,
+    alpha: float = 2.0,
+    x0: float = 1.0,
+    n_forces: int = 20,
+    tol: float = bem.DEFAULT_TOLERANCE,
+) -> Comparison:
+    """Run SAD and the exact BEM reference on the same smoothed geometry at matched forces.
+
+    Parameters
+    ----------
+    lower : Profile
+        Lower body, heights [µm] out of the body.
+    upper : Profile or "flat"
+        Upper body (heights [µm] out of its own body, same grid) or a rigid flat.
+    e_star : float
+        Effective modulus E* [GPa].
+    steps : int
+        SAD displacement steps [1].
+    final_displacement : float, optional
+        SAD's last displacement [µm] (default: ``final_displacement_factor`` × peak-to-valley).
+    final_displacement_factor : float
+        Fraction of the lower peak-to-valley height [1] used by default.
+    alpha, x0 : float
+        Spline tightness exponent α [1] and unit length x0 [µm] (eqs. 2–3).
+    n_forces : int
+        Number of forces at which to compare [1] (evenly spaced up to SAD's largest force).
+    tol : float
+        BEM convergence tolerance [1] (see :mod:`splinecontact.bem`).
+
+    Returns
+    -------
+    Comparison
+    """
+    from .contact import simulate
+    from .spline import fit_spline
+
+    if n_forces < 1:
+        raise ParameterError(f"n_forces must be ≥ 1, got {n_forces}")
+    result = simulate(
+        lower,
+        upper,
+        steps=steps,
+        final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor,
+        e_star=e_star,
+        alpha=alpha,
+        x0=x0,
+    )
+    composite = fit_spline(lower, alpha=alpha, x0=x0).f
+    if not isinstance(upper, str):
+        composite = composite + fit_spline(upper, alpha=alpha, x0=x0).f
+    n = lower.n_points
+    smoothed = Profile(lower.x, composite, metadata={"source": "SAD spline, composite"})
+    problem = bem.contact_problem(bem.mirror_extend(smoothed), e_star=e_star)
+    segment = n * lower.dx
+
+    curves = result.curves
+    force_curve = np.asarray(curves["normal_force"], dtype=np.float64)
+    chosen = _select_steps(force_curve, n_forces)
+    notes: list[str] = []
+    p_full = problem.full_contact_pressure
+    keep = [i for i in chosen if force_curve[i] / segment < p_full]
+    if len(keep) < len(chosen):
+        notes.append(
+            f"{len(chosen) - len(keep)} SAD force(s) at or beyond the exact full-contact force "
+            f"{p_full * segment:.4g} mN/µm were skipped"
+        )
+    if not keep:
+        raise ParameterError(
+            "no SAD step has a positive force below the exact full-contact force "
+            f"({p_full * segment:.4g} mN/µm; largest SAD force {force_curve.max():.4g} mN/µm); "
+            "change the final displacement or the number of steps"
+        )
+    idx = np.asarray(keep, dtype=np.int64)
+    forces = force_curve[idx]
+    path = bem.load_path(problem, forces / segment, tol=tol, fields=True)
+
+    bem_len = np.empty(idx.size)
+    bem_sub = np.empty(idx.size)
+    bem_patches = np.empty(idx.size)
+    for k, step in enumerate(path.steps):
+        assert step.pressure is not None
+        stats = bem.contact_statistics(step.pressure[:n], lower.dx, periodic=False)
+        bem_len[k] = stats.contact_length
+        bem_sub[k] = stats.contact_length_subgrid
+        bem_patches[k] = stats.n_patches
+    bem_gap = path.column("mean_gap")
+    bem_approach = path.column("approach")
+
+    area = np.asarray(curves["contact_area"], dtype=np.float64)[idx]
+    width = np.sqrt(2.0) * area
+    n_contacts = np.asarray(curves["n_contacts"], dtype=np.float64)[idx]
+    separation = np.asarray(curves["mean_separation"], dtype=np.float64)[idx]
+    displacement = np.asarray(curves["displacement"], dtype=np.float64)[idx]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        columns = {
+            "force": forces,
+            "sad_step": idx.astype(np.float64),
+            "sad_displacement": displacement,
+            "sad_contact_width": width,
+            "sad_contact_area": area,
+            "sad_n_contacts": n_contacts,
+            "sad_mean_separation": separation,
+            "bem_contact_length": bem_len,
+            "bem_contact_length_subgrid": bem_sub,
+            "bem_n_patches": bem_patches,
+            "bem_mean_gap": bem_gap,
+            "bem_approach": bem_approach,
+            "ratio_width": width / bem_sub,
+            "ratio_area": area / bem_sub,
+            "mean_gap_error": separation / bem_gap - 1.0,
+            "ratio_approach": bem_approach / displacement,
+            "ratio_contacts": bem_patches / n_contacts,
+        }
+    parameters: dict[str, Any] = {
+        "e_star_GPa": float(e_star),
+        "n_points": n,
+        "dx_um": lower.dx,
+        "sad_steps": int(steps),
+        "alpha": float(alpha),
+        "x0_um": float(x0),
+        "bem_tolerance": float(tol),
+        "bem_periodic_extension": "mirror",
+        "lower_source": str(lower.metadata.get("source", "?")),
+        "upper_source": "flat" if isinstance(upper, str) else str(upper.metadata.get("source")),
+    }
+    return Comparison(columns, parameters, tuple(notes))
+
+
+def write_table(comparison: Comparison, path: Path) -> Path:
+    """Write the comparison as CSV; the header names each column with its units."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    names = list(COLUMNS)
+    with path.open("w", newline="", encoding="utf-8") as handle:
+        for key, value in comparison.parameters.items():
+            handle.write(f"# {key} = {value}\n")
+        for note in comparison.notes:
+            handle.write(f"# note: {note}\n")
+        writer = csv.writer(handle)
+        writer.writerow([f"{name} [{COLUMNS[name][0]}]" for name in names])
+        rows = np.column_stack([comparison.columns[name] for name in names])
+        for row in rows:
+            writer.writerow([f"{v:.10g}" for v in row])
+    return path
+
+
+def write_figure(comparison: Comparison, path: Path) -> Path:
+    """Plot contact length, mean gap and counts against force, with their ratios (PNG)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    c = comparison.columns
+    force = c["force"]
+    fig = Figure(figsize=(13.0, 7.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, 3, sharex=True)
+    top, bottom = axes[0], axes[1]
+
+    top[0].plot(force, c["bem_contact_length_subgrid"], "k-o", ms=3, label="exact (BEM)")
+    top[0].plot(force, c["sad_contact_width"], "C0-s", ms=3, label="SAD Hertz width √2·A_S")
+    top[0].plot(force, c["sad_contact_area"], "C1-^", ms=3, label="SAD A_S")
+    top[0].set_ylabel("contact length [µm]")
+    bottom[0].plot(force, c["ratio_width"], "C0-s", ms=3, label="SAD width / exact")
+    bottom[0].plot(force, c["ratio_area"], "C1-^", ms=3, label="A_S / exact")
+    bottom[0].set_ylabel("ratio to exact [1]")
+
+    top[1].plot(force, c["bem_mean_gap"] * 1e3, "k-o", ms=3, label="exact (BEM)")
+    top[1].plot(force, c["sad_mean_separation"] * 1e3, "C0-s", ms=3, label="SAD")
+    top[1].set_ylabel("mean gap [nm]")
+    bottom[1].plot(force, c["mean_gap_error"], "C0-s", ms=3, label="SAD / exact − 1")
+    bottom[1].plot(force, c["ratio_approach"], "C2-d", ms=3, label="approach exact / SAD")
+    bottom[1].set_ylabel("[1]")
+
+    top[2].plot(force, c["bem_n_patches"], "k-o", ms=3, label="exact patches")
+    top[2].plot(force, c["sad_n_contacts"], "C0-s", ms=3, label="SAD contacts")
+    top[2].set_ylabel("count [1]")
+    bottom[2].plot(force, c["ratio_contacts"], "C0-s", ms=3, label="patches / SAD contacts")
+    bottom[2].set_ylabel("ratio [1]")
+
+    for ax in (*top, *bottom):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    for ax in bottom:
+        ax.axhline(1.0, color="0.5", lw=0.8)
+        ax.set_xlabel("force F [mN/µm]")
+    p = comparison.parameters
+    fig.suptitle(
+        f"SAD vs exact elastic contact: {p['lower_source']} on {p['upper_source']}, "
+        f"{p['n_points']} points, E* = {p['e_star_GPa']:g} GPa"
+    )
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    return path
