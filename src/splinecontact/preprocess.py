@@ -320,6 +320,35 @@ def _fit_form(
 # --- the pipeline ---------------------------------------------------------------------------
 
 
+def _resample(
+    x: NDArray[np.float64],
+    z: NDArray[np.float64],
+    spacing: float | None,
+    max_deviation: float,
+    steps: list[dict[str, Any]],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Linear interpolation onto a uniform grid (``spacing`` [µm], or as many points as x).
+
+    Appends the ``resample`` step to ``steps`` and returns the new (x, z) [µm].
+    """
+    if spacing is None:
+        new_x = _uniform_grid(float(x[0]), float(x[-1]), x.size)
+    else:
+        n_new = int(np.floor((x[-1] - x[0]) / spacing + 1e-9)) + 1
+        new_x = x[0] + spacing * np.arange(n_new)
+    steps.append(
+        {
+            "step": "resample",
+            "method": "linear",
+            "n_points_before": int(x.size),
+            "n_points": int(new_x.size),
+            "spacing_um": float((new_x[-1] - new_x[0]) / max(new_x.size - 1, 1)),
+            "max_deviation_before_um": max_deviation,
+        }
+    )
+    return new_x, np.interp(new_x, x, z)
+
+
 def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile:
     """Apply a preprocessing policy to a raw scan and build the :class:`~splinecontact.Profile`.
 
@@ -502,39 +531,10 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
                 "nonuniform='resample' (CLI: --nonuniform resample)"
             )
         else:
-            if opts.resample_spacing is None:
-                new_x = grid
-            else:
-                n_new = int(np.floor((x[-1] - x[0]) / opts.resample_spacing + 1e-9)) + 1
-                new_x = x[0] + opts.resample_spacing * np.arange(n_new)
-            z = np.interp(new_x, x, z)
-            steps.append(
-                {
-                    "step": "resample",
-                    "method": "linear",
-                    "n_points_before": int(x.size),
-                    "n_points": int(new_x.size),
-                    "spacing_um": float((new_x[-1] - new_x[0]) / max(new_x.size - 1, 1)),
-                    "max_deviation_before_um": float(deviation[worst]),
-                }
-            )
-            x = new_x
+            x, z = _resample(x, z, opts.resample_spacing, float(deviation[worst]), steps)
             rows = None
     elif opts.resample_spacing is not None and opts.nonuniform == "resample" and x.size >= 2:
-        n_new = int(np.floor((x[-1] - x[0]) / opts.resample_spacing + 1e-9)) + 1
-        new_x = x[0] + opts.resample_spacing * np.arange(n_new)
-        z = np.interp(new_x, x, z)
-        steps.append(
-            {
-                "step": "resample",
-                "method": "linear",
-                "n_points_before": int(x.size),
-                "n_points": int(new_x.size),
-                "spacing_um": float(opts.resample_spacing),
-                "max_deviation_before_um": 0.0,
-            }
-        )
-        x = new_x
+        x, z = _resample(x, z, opts.resample_spacing, 0.0, steps)
 
     # 7. origin
     if opts.zero_origin and x.size:

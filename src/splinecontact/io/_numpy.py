@@ -158,17 +158,6 @@ def read_npy(
     except ValueError as exc:
         raise NumpyFileError(f"{path}: not a readable .npy array without pickles ({exc})") from None
     array = _numeric(path, np.asarray(array), "array")
-    if array.ndim == 1:
-        return _make(
-            path,
-            None,
-            array,
-            fmt="npy",
-            unit=unit,
-            height_unit=height_unit,
-            spacing=spacing,
-            line=line,
-        )
     if array.ndim == 2 and spacing is None and line is None and 2 in array.shape:
         pairs = array if array.shape[1] == 2 else array.T
         return _make(
@@ -181,7 +170,7 @@ def read_npy(
             spacing=None,
             line=None,
         )
-    if array.ndim == 2:
+    if array.ndim in (1, 2):  # heights, or an areal map of which one line is taken
         return _make(
             path,
             None,
