@@ -10,13 +10,7 @@ Units throughout: lengths µm, moduli GPa, forces mN per µm of out-of-plane thi
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("splinecontact")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0+unknown"
-
+from ._version import __version__
 from .contact import simulate
 from .errors import *  # noqa: F403
 from .errors import __all__ as _errors_all

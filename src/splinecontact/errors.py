@@ -17,6 +17,8 @@ __all__ = [
     "GridNotUniformError",
     "NoConvergenceError",
     "NonFiniteValueError",
+    "OutputError",
+    "OutputExistsError",
     "ParameterError",
     "ProfileError",
     "ProfileReadError",
@@ -25,6 +27,7 @@ __all__ = [
     "StudyConfigError",
     "StudyStoreError",
     "TooFewPointsError",
+    "UnsafeOutputError",
 ]
 
 
@@ -97,3 +100,18 @@ class BEMError(SplineContactError):
 
 class NoConvergenceError(BEMError):
     """An iterative solver did not reach its tolerance within its iteration limit."""
+
+
+# --- outputs ----------------------------------------------------------------------------------
+
+
+class OutputError(SplineContactError):
+    """An output file or folder cannot be written under the package's output rule."""
+
+
+class OutputExistsError(OutputError):
+    """The output exists and ``overwrite`` was not given."""
+
+
+class UnsafeOutputError(OutputError):
+    """Writing there could destroy something splinecontact did not create (or an input)."""

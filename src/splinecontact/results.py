@@ -222,7 +222,7 @@ class SimulationResult:
         attrs["units_convention"] = (
             "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
         )
-        from . import __version__
+        from ._version import __version__
 
         attrs["splinecontact_version"] = __version__
         step_attrs = {"units": "1", "long_name": "loading step (0 = first contact)"}

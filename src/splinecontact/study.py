@@ -61,7 +61,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from . import __version__
+from ._version import __version__
 from .config import PARAMETERS, StudyConfig, load_study, parse_study
 from .contact import SIMULATION_PARAMETERS
 from .errors import SplineContactError, StudyConfigError, StudyStoreError
