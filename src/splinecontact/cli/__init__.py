@@ -15,6 +15,7 @@ from . import _analysis, _compare, _engine, _measured, _study
 
 __all__ = ["app", "main"]
 
+#: The typer application holding every ``splinecontact`` command (``main`` runs it).
 app = typer.Typer(
     name="splinecontact",
     help=(
