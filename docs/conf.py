@@ -24,7 +24,7 @@ import splinecontact  # noqa: E402
 
 project = "splinecontact"
 author = "splinecontact developers"
-copyright = "splinecontact developers (MIT licence)"  # noqa: A001
+copyright = "splinecontact developers (MIT licence)"
 version = release = splinecontact.__version__
 
 extensions = [

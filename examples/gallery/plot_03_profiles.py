@@ -20,9 +20,9 @@ profiles = [
     for d, s in zip(dimensions, seeds, strict=True)
 ]
 for d, p in zip(dimensions, profiles, strict=True):
-    print(f"D = {d:.1f}: R_A = {p.ra * 1000:.3g} nm, R_q = {p.rq * 1000:.3g} nm, R_Sq = {p.rsq:.3g}")
+    print(
+        f"D = {d:.1f}: R_A = {p.ra * 1000:.3g} nm, R_q = {p.rq * 1000:.3g} nm, R_Sq = {p.rsq:.3g}"
+    )
 
 fig, ax = plt.subplots(figsize=(8, 6), layout="constrained")
-plotting.plot_profiles(
-    profiles, labels=[f"D = {d:g}" for d in dimensions], ax=ax, xlim=(0.0, 10.0)
-)
+plotting.plot_profiles(profiles, labels=[f"D = {d:g}" for d in dimensions], ax=ax, xlim=(0.0, 10.0))

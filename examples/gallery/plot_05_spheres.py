@@ -17,7 +17,10 @@ profile = sc.weierstrass_mandelbrot(1.4, n_points=20_000, length=100.0, ra=0.005
 fit = sc.fit_spline(profile)
 spheres = sc.surface_spheres(fit)
 radius = 1.0 / np.maximum(np.abs(spheres.curvature), 1e-300)
-print(f"{profile.n_points} spheres; median radius {np.median(radius):.3g} µm (r_min = {spheres.r_min:.3g} µm)")
+print(
+    f"{profile.n_points} spheres; median radius {np.median(radius):.3g} µm "
+    f"(r_min = {spheres.r_min:.3g} µm)"
+)
 
 centre = float(profile.x[np.argmax(profile.z)])
 window = 60 * profile.dx

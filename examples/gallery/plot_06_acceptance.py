@@ -13,9 +13,7 @@ import matplotlib.pyplot as plt
 
 import splinecontact as sc
 
-lower, upper = sc.weierstrass_mandelbrot_pair(
-    1.5, n_points=20_000, length=100.0, ra=0.005, seed=6
-)
+lower, upper = sc.weierstrass_mandelbrot_pair(1.5, n_points=20_000, length=100.0, ra=0.005, seed=6)
 result = sc.simulate(lower, upper, steps=200)
 candidates = result.n_candidates
 accepted = result.n_contacts

@@ -7,7 +7,7 @@ and an incremental tangential force F^t_i acts along the contact tangent (paper 
 Recorded at the last step of a rough-on-rough loading (D = 1.3) and drawn as arrows on the
 lower profile: normal forces in red, tangential forces in
 blue (same scale). Right: each contact's tangential force against its normal force, with
-the cap μ0 |F^n| of eqs. 12–13.
+the cap ``μ0 |F^n|`` of eqs. 12–13.
 """
 
 import matplotlib.pyplot as plt
@@ -15,9 +15,7 @@ import numpy as np
 
 import splinecontact as sc
 
-lower, upper = sc.weierstrass_mandelbrot_pair(
-    1.3, n_points=20_000, length=100.0, ra=0.005, seed=7
-)
+lower, upper = sc.weierstrass_mandelbrot_pair(1.3, n_points=20_000, length=100.0, ra=0.005, seed=7)
 result = sc.simulate(lower, upper, steps=200, record_contacts="last")
 record = result.contacts[-1]
 print(

@@ -11,9 +11,7 @@ import matplotlib.pyplot as plt
 import splinecontact as sc
 from splinecontact import plotting
 
-lower, upper = sc.weierstrass_mandelbrot_pair(
-    1.4, n_points=20_000, length=100.0, ra=0.005, seed=8
-)
+lower, upper = sc.weierstrass_mandelbrot_pair(1.4, n_points=20_000, length=100.0, ra=0.005, seed=8)
 fit_lower, fit_upper = sc.fit_spline(lower), sc.fit_spline(upper)
 fig, ax = plt.subplots(figsize=(9, 4), layout="constrained")
 plotting.plot_first_contact(fit_lower, fit_upper, ax=ax)

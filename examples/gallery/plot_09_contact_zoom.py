@@ -11,9 +11,7 @@ import matplotlib.pyplot as plt
 import splinecontact as sc
 from splinecontact import plotting
 
-lower, upper = sc.weierstrass_mandelbrot_pair(
-    1.4, n_points=20_000, length=100.0, ra=0.005, seed=9
-)
+lower, upper = sc.weierstrass_mandelbrot_pair(1.4, n_points=20_000, length=100.0, ra=0.005, seed=9)
 step = 50
 result = sc.simulate(lower, upper, steps=200, record_contacts=[step])
 record = result.contacts[0]

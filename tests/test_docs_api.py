@@ -1,0 +1,122 @@
+"""The API reference lists every public name, and the docs' sources are consistent.
+
+Fast (no Sphinx build): imports every public module, collects its ``__all__`` and checks the
+API pages in ``docs/api`` document each name (at its home module) or link to it.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+API = ROOT / "docs" / "api"
+sys.path.insert(0, str(API))
+
+from _public import home, kind, public_modules, public_names  # noqa: E402
+
+DIRECTIVES = {
+    "function": "autofunction",
+    "class": "autoclass",
+    "exception": "autoexception",
+    "data": "autodata",
+}
+
+
+def _api_text() -> str:
+    return "\n".join(p.read_text(encoding="utf-8") for p in sorted(API.glob("*.rst")))
+
+
+def _page_of(module: str) -> Path:
+    stem = "package" if module == "splinecontact" else module.removeprefix("splinecontact.")
+    return API / f"{stem}.rst"
+
+
+MODULES = public_modules()
+
+
+def test_the_public_modules_include_the_ones_users_import() -> None:
+    for name in (
+        "splinecontact",
+        "splinecontact.io",
+        "splinecontact.bem",
+        "splinecontact.reference",
+        "splinecontact.compare",
+        "splinecontact.study",
+        "splinecontact.analysis",
+        "splinecontact.plotting",
+        "splinecontact.outputs",
+        "splinecontact.errors",
+    ):
+        assert name in MODULES
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_every_public_module_has_an_api_page_in_the_index(module: str) -> None:
+    page = _page_of(module)
+    assert page.is_file(), f"no API page for {module}: run `python docs/api/_generate.py`"
+    assert f".. automodule:: {module}\n" in page.read_text(encoding="utf-8")
+    assert f"   {page.stem}\n" in (API / "index.rst").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_every_public_name_is_in_the_api_reference(module: str) -> None:
+    text = _api_text()
+    page = _page_of(module).read_text(encoding="utf-8")
+    missing = []
+    for name in public_names(module):
+        where = home(module, name)
+        documented = f".. {DIRECTIVES[kind(where, name)]}:: {where}.{name}\n"
+        if documented not in text:
+            missing.append(f"{module}.{name} (expected `{documented.strip()}`)")
+        elif where != module and f"<{where}.{name}>`" not in page:
+            missing.append(f"{module}.{name} (no link from the {module} page)")
+    assert not missing, "not in docs/api (run `python docs/api/_generate.py`): " + ", ".join(
+        missing
+    )
+
+
+def test_every_documented_name_exists() -> None:
+    """The pages document nothing that the package no longer has."""
+    for match in re.finditer(
+        r"^\.\. auto(?:function|class|exception|data):: (\S+)$", _api_text(), re.M
+    ):
+        module, _, name = match.group(1).rpartition(".")
+        assert hasattr(importlib.import_module(module), name), match.group(1)
+        assert name in public_names(module), f"{match.group(1)} is not in {module}.__all__"
+
+
+def test_public_names_are_documented_once() -> None:
+    targets = re.findall(r"^\.\. auto(?:function|class|exception):: (\S+)$", _api_text(), re.M)
+    objects = [
+        getattr(importlib.import_module(t.rpartition(".")[0]), t.rpartition(".")[2])
+        for t in targets
+    ]
+    ids = [id(o) for o in objects]
+    duplicates = {t for t, i in zip(targets, ids, strict=True) if ids.count(i) > 1}
+    assert not duplicates, f"documented more than once (ambiguous references): {duplicates}"
+
+
+def test_the_guides_are_all_in_the_site() -> None:
+    """The guides' toctree names the known pages and globs the others (e.g. architecture.md)."""
+    index = (ROOT / "docs" / "index.md").read_text(encoding="utf-8")
+    guides = index[index.index(":caption: Guides") :]
+    assert ":glob:" in guides.split("```")[0]
+    assert "\n*\n" in guides.split("```")[0]
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        if page.stem in ("index", "architecture"):
+            continue
+        assert f"\n{page.stem}\n" in index, f"docs/{page.name} is not in the toctree of index.md"
+
+
+def test_every_gallery_example_is_executed_by_the_build() -> None:
+    """sphinx-gallery runs the files matching ``filename_pattern`` (``/plot_``) only."""
+    for folder in (ROOT / "examples" / "gallery", ROOT / "docs" / "tutorial_src"):
+        scripts = sorted(folder.glob("*.py"))
+        assert scripts, folder
+        assert all(p.name.startswith("plot_") for p in scripts), scripts
+        assert (folder / "README.txt").is_file()
