@@ -74,6 +74,9 @@ sphinx_gallery_conf = {
     "plot_gallery": os.environ.get("SPLINECONTACT_DOCS_EXAMPLES", "1") != "0",
     "show_memory": False,
     "min_reported_time": 1,
+    # Each example page states its own running time; no separate top-level page (the guides
+    # toctree globs top-level pages).
+    "write_computation_times": False,
 }
 
 # --- HTML ---------------------------------------------------------------------------------------
@@ -89,36 +92,50 @@ html_theme_options = {
 _log = logging.getLogger("splinecontact.docs")
 
 
-def _resolve_reexport(app, env, node, contnode):  # type: ignore[no-untyped-def]
-    """Send ``splinecontact.X`` (a re-export) to the page that documents ``X``.
+def _candidates(target: str, module: str | None) -> list[str]:
+    """Fully qualified names a reference may mean: as written, in the current module, or a
+    top-level name of the package."""
+    if target.startswith("splinecontact"):
+        return [target]
+    names = []
+    if module and module.startswith("splinecontact"):
+        names.append(f"{module}.{target}")
+    names.append(f"splinecontact.{target}")
+    return names
 
-    Unresolvable references into the package are warnings (errors under ``-W``).
+
+def _resolve_reexport(app, env, node, contnode):  # type: ignore[no-untyped-def]
+    """Send a reference to a re-exported name to the page that documents it.
+
+    ``splinecontact.Profile`` is documented as ``splinecontact.profile.Profile``; the
+    references in the docstrings use either. References into the package that nothing
+    documents are warnings (errors under ``-W``); references to other projects (numpy,
+    xarray, ...) are left as plain text.
     """
     if node.get("refdomain") != "py":
         return None
-    target = str(node.get("reftarget", ""))
-    if not target.startswith("splinecontact"):
-        return None
     from _public import home
 
-    module_name, _, name = target.rpartition(".")
+    target = str(node.get("reftarget", ""))
     domain = env.get_domain("py")
-    try:
-        module = importlib.import_module(module_name)
-        getattr(module, name)
-        where = home(module_name, name)
-    except (ImportError, AttributeError, ValueError):
-        where = None
-    if where is not None and where != module_name:
-        node["reftarget"] = f"{where}.{name}"
+    for candidate in _candidates(target, node.get("py:module")):
+        module_name, _, name = candidate.rpartition(".")
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        if not hasattr(module, name):
+            continue
+        try:
+            where = home(module_name, name)
+        except (AttributeError, ValueError):
+            continue
         found = domain.resolve_xref(
             env, node["refdoc"], app.builder, node["reftype"], f"{where}.{name}", node, contnode
         )
         if found is not None:
             return found
-    if target.rpartition(".")[0] and "." in target:
-        # Methods, attributes and modules are resolved by Sphinx itself; only report the
-        # references that nothing documents.
+    if target.startswith("splinecontact."):
         _log.warning("unresolved reference to %s", target, location=node)
     return None
 
