@@ -102,13 +102,14 @@ def test_public_names_are_documented_once() -> None:
 
 
 def test_the_guides_are_all_in_the_site() -> None:
-    """The guides' toctree names the known pages and globs the others (e.g. architecture.md)."""
+    """The guides' toctree names the known pages and globs the others (changelog.md, so that
+    the glob is never empty, and new pages such as architecture.md)."""
     index = (ROOT / "docs" / "index.md").read_text(encoding="utf-8")
     guides = index[index.index(":caption: Guides") :]
     assert ":glob:" in guides.split("```")[0]
     assert "\n*\n" in guides.split("```")[0]
     for page in sorted((ROOT / "docs").glob("*.md")):
-        if page.stem in ("index", "architecture"):
+        if page.stem in ("index", "architecture", "changelog"):  # globbed
             continue
         assert f"\n{page.stem}\n" in index, f"docs/{page.name} is not in the toctree of index.md"
 
