@@ -121,3 +121,9 @@ def test_every_gallery_example_is_executed_by_the_build() -> None:
         assert scripts, folder
         assert all(p.name.startswith("plot_") for p in scripts), scripts
         assert (folder / "README.txt").is_file()
+
+
+def test_the_gallery_has_each_of_the_papers_figures_3_to_12() -> None:
+    names = [p.name for p in (ROOT / "examples" / "gallery").glob("plot_*.py")]
+    for figure in range(3, 13):
+        assert any(n.startswith(f"plot_{figure:02d}_") for n in names), f"no Fig. {figure}"
