@@ -41,7 +41,7 @@ def _import_surfacetopography() -> Any:
 
 
 def read_with_surfacetopography(
-    path: Path, *, unit: str | None = None, line: int | None = None
+    path: Path, *, unit: str | None = None, line: int | None = None, max_points: int = 10**8
 ) -> RawProfile:
     """Read a line scan (or row ``line`` of areal data) with SurfaceTopography.
 
