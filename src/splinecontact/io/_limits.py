@@ -20,6 +20,7 @@ __all__ = [
     "MAX_XML_BYTES",
     "check_max_points",
     "check_points",
+    "one_line",
     "read_exact",
 ]
 
@@ -35,6 +36,12 @@ MAX_LINE_CHARS = 4_000_000
 MAX_XML_BYTES = 16 * 2**20
 
 _CHUNK = 1 << 20
+
+
+def one_line(exc: BaseException, limit: int = 120) -> str:
+    """A library exception's message on one line, shortened (for wrapping it in ours)."""
+    text = " ".join(str(exc).split())
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def check_max_points(max_points: object) -> int:

@@ -33,7 +33,7 @@ from ._errors import (
     ReadOptionError,
     UnitError,
 )
-from ._limits import DEFAULT_MAX_POINTS, check_points, read_exact
+from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact
 from ._stored import MAX_STORED_CHARS, parse_stored_metadata
 from ._units import UNIT_FACTORS, normalize_unit
 from ._x3p import ZIP_ERRORS
@@ -96,7 +96,7 @@ def _read_array(
         shape, fortran, dtype = header
     except _HEADER_ERRORS as exc:
         raise CorruptFileError(
-            f"{path}: {what} has no readable .npy header ({str(exc)[:100]}); the file is "
+            f"{path}: {what} has no readable .npy header ({one_line(exc)}); the file is "
             "damaged or not a NumPy file"
         ) from None
     dtype = np.dtype(dtype)
@@ -306,7 +306,7 @@ def _member(
             )
     except ZIP_ERRORS as exc:
         raise CorruptFileError(
-            f"{path}: array {name!r} cannot be read ({str(exc)[:100]}); the archive is damaged"
+            f"{path}: array {name!r} cannot be read ({one_line(exc)}); the archive is damaged"
         ) from None
 
 
@@ -325,10 +325,10 @@ def read_npz(
             archive = zipfile.ZipFile(handle)
         except zipfile.BadZipFile as exc:
             raise NumpyFileError(
-                f"{path}: not a readable .npz archive (not a zip of .npy arrays: {exc})"
+                f"{path}: not a readable .npz archive (not a zip of .npy arrays: {one_line(exc)})"
             ) from None
         except ZIP_ERRORS as exc:
-            raise CorruptFileError(f"{path}: the zip archive is damaged ({exc})") from None
+            raise CorruptFileError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
         with archive:
             names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
             if "z" not in names:

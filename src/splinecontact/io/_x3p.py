@@ -29,7 +29,7 @@ import numpy as np
 
 from ..preprocess import RawProfile
 from ._errors import CorruptFileError, FileTooLargeError, LineSelectionError, X3PError
-from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, read_exact
+from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
 
 __all__ = ["DamagedX3PError", "read_x3p"]
 
@@ -83,11 +83,11 @@ def _parse_xml(path: Path, data: bytes) -> ElementTree.Element:
             "need; refused (entity expansion could exhaust memory or read local files)"
         ) from None
     except (expat.ExpatError, ValueError, RecursionError) as exc:
-        raise X3PError(f"{path}: main.xml is not valid XML ({exc})") from None
+        raise X3PError(f"{path}: main.xml is not valid XML ({one_line(exc)})") from None
     try:
         return ElementTree.fromstring(data)
     except (ElementTree.ParseError, ValueError, RecursionError) as exc:
-        raise X3PError(f"{path}: main.xml is not valid XML ({exc})") from None
+        raise X3PError(f"{path}: main.xml is not valid XML ({one_line(exc)})") from None
 
 
 def _member(path: Path, archive: zipfile.ZipFile, name: str) -> zipfile.ZipInfo:
@@ -108,7 +108,7 @@ def _read_member(path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo, si
         with archive.open(info) as stream:
             return read_exact(path, stream, size, info.filename)
     except ZIP_ERRORS as exc:
-        raise DamagedX3PError(f"{path}: {info.filename} cannot be read ({exc})") from None
+        raise DamagedX3PError(f"{path}: {info.filename} cannot be read ({one_line(exc)})") from None
 
 
 def _local(tag: str) -> str:
@@ -220,9 +220,9 @@ def read_x3p(
         try:
             archive = zipfile.ZipFile(handle)
         except zipfile.BadZipFile as exc:
-            raise X3PError(f"{path}: not a valid X3P file (not a zip archive: {exc})") from None
+            raise X3PError(f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})") from None
         except ZIP_ERRORS as exc:
-            raise DamagedX3PError(f"{path}: the zip archive is damaged ({exc})") from None
+            raise DamagedX3PError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
         with archive:
             return _read_archive(path, archive, line=line, max_points=max_points)
 
@@ -338,7 +338,7 @@ def _read_archive(
             else None
         )
     except ZIP_ERRORS as exc:
-        raise DamagedX3PError(f"{path}: {link} cannot be read ({exc})") from None
+        raise DamagedX3PError(f"{path}: {link} cannot be read ({one_line(exc)})") from None
     if md5 is not None and md5.hexdigest().lower() != str(checksum).lower():
         raise DamagedX3PError(
             f"{path}: the MD5 checksum of {link} does not match main.xml; the file is damaged"
