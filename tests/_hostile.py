@@ -103,10 +103,10 @@ def x3p_xml(
 </p:ISO5436_2>"""
 
 
-def write_x3p(path: Path, xml: str, data: bytes, **extra: bytes) -> None:
+def write_x3p(path: Path, xml: str, data: bytes, extra: dict[str, bytes] | None = None) -> None:
     """An X3P of ``main.xml`` and ``bindata/data.bin`` (plus ``extra`` members by name)."""
     members = [member("main.xml", xml.encode()), member("bindata/data.bin", data)]
-    members += [member(name.replace("__", "/"), content) for name, content in extra.items()]
+    members += [member(name, content) for name, content in (extra or {}).items()]
     raw_zip(path, members)
 
 

@@ -69,6 +69,9 @@ __all__ = [
 #: Number of offending positions listed in an error message.
 _MAX_LISTED = 5
 
+#: Largest |height| [µm] a form is fitted to (squares must stay finite in the least squares).
+_FIT_LIMIT = 1e150
+
 #: Default ceiling on the number of points resampling may create (``Preprocessing.max_points``).
 MAX_RESAMPLE_POINTS = 100_000_000
 
@@ -371,6 +374,20 @@ def _fit_form(
 
     Coefficients are in increasing powers of ``x`` [µm^(1-k)], for the record.
     """
+    with np.errstate(all="ignore"):
+        span = float(np.max(x) - np.min(x)) if x.size else 0.0
+        height = float(np.max(np.abs(z))) if z.size else 0.0
+    if degree > 0 and not (
+        np.isfinite(span)
+        and span / max(x.size - 1, 1) >= np.finfo(np.float64).tiny
+        and height <= _FIT_LIMIT
+    ):
+        # checked first: LAPACK would print to stderr before failing
+        raise ProfileError(
+            f"the form of degree {degree} cannot be fitted to these positions and heights "
+            f"(x spans {span:.3g} µm over {x.size} points, heights up to {height:.3g} µm: "
+            "beyond what floating point resolves); check the file's units and increments"
+        )
     with np.errstate(all="ignore"):
         if degree == 0:
             mean = float(z.mean())
