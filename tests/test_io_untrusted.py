@@ -656,27 +656,30 @@ _MEASURE = textwrap.dedent(
     wall = time.perf_counter() - start
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = usage.ru_utime + usage.ru_stime
-    print(child.returncode, usage.ru_maxrss, f"{wall:.3f}", f"{cpu:.3f}", child.stdout.strip())
+    print(child.returncode, usage.ru_maxrss, f"{wall:.3f}", f"{cpu:.3f}", *child.stdout.split())
     sys.stderr.write(child.stderr)
     """
 )
 
 
-def _measured_read(path: Path, **options: object) -> tuple[str, int, float, float]:
-    """Read in a grandchild process; return (error class, peak RSS [kB], wall [s], CPU [s]).
+def _measured_read(path: Path, **options: object) -> tuple[str, int, float, float, float]:
+    """Read in a grandchild; return (error class, peak RSS [kB], wall, CPU, read time [s]).
 
     The child runs the reader in its own child and reports ``RUSAGE_CHILDREN``: the peak
     resident memory of the reading process alone (interpreter and imports included).
     """
     code = textwrap.dedent(
         f"""
+        import time
         from splinecontact.io import read_profile
         from splinecontact import SplineContactError
+        start = time.perf_counter()
         try:
             read_profile({str(path)!r}, **{options!r})
-            print("accepted")
+            outcome = "accepted"
         except SplineContactError as exc:
-            print(type(exc).__name__)
+            outcome = type(exc).__name__
+        print(outcome, f"{{time.perf_counter() - start:.4f}}")
         """
     )
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[1] / "src"))
@@ -688,9 +691,9 @@ def _measured_read(path: Path, **options: object) -> tuple[str, int, float, floa
         timeout=300,
         check=True,
     )
-    rc, rss, wall, cpu, outcome = result.stdout.split()
+    rc, rss, wall, cpu, outcome, read_time = result.stdout.split()
     assert rc == "0", result.stderr
-    return outcome, int(rss), float(wall), float(cpu)
+    return outcome, int(rss), float(wall), float(cpu), float(read_time)
 
 
 @pytest.mark.slow
@@ -711,10 +714,11 @@ def test_report_bombs_refused_in_bounded_memory(tmp_path: Path) -> None:
     report = []
     for name, (options, expected) in cases.items():
         path = tmp_path / name
-        outcome, rss_kb, wall, cpu = _measured_read(path, **options)
+        outcome, rss_kb, wall, cpu, read_time = _measured_read(path, **options)
         report.append(
             f"{name}: {path.stat().st_size / MiB:.1f} MiB file, {outcome}, peak RSS "
-            f"{rss_kb / 1024:.0f} MB, wall {wall:.2f} s, CPU {cpu:.2f} s"
+            f"{rss_kb / 1024:.0f} MB; read_profile {read_time * 1000:.1f} ms; whole process "
+            f"(interpreter, imports) wall {wall:.2f} s, CPU {cpu:.2f} s"
         )
         assert outcome == expected, report[-1]
         assert rss_kb <= 200 * 1024, report[-1]
