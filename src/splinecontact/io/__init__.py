@@ -19,8 +19,21 @@ Formats (``format=``; detected from the extension, else from the content):
 ``"npy"``, ``"npz"``
     NumPy arrays (units from ``unit=`` unless written by :func:`write_profile`).
 ``"surfacetopography"``
-    Any other instrument format, through the optional SurfaceTopography package
-    (``pip install "splinecontact[instruments]"``).
+    Any other instrument format (every extension SurfaceTopography registers, e.g. ``.sur
+    .opd .datx .gwy .tiff .xlsx .stp .top .bcrf .nc``, and binary ``.dat`` such as Zygo
+    MetroPro), through the optional SurfaceTopography package
+    (``pip install "splinecontact[instruments]"``); its errors become
+    :class:`InstrumentFileError`.
+
+Origin of x: positions stated by the file are kept (text tables, X3P offsets); a format that
+gives only a grid spacing starts at x = 0 (heights with ``spacing=``, areal ``.npy``, every
+uniform scan read through SurfaceTopography, which does not report the file's origin).
+``Preprocessing(zero_origin=True)`` starts any profile at 0.
+
+Untrusted files: every reader checks what a file declares against what it holds and against
+``max_points`` (default :data:`DEFAULT_MAX_POINTS` = 10⁸ points per file) before allocating,
+reads text line by line (at most :data:`MAX_LINE_CHARS` characters per line), parses X3P
+``main.xml`` without document types or entities, and never unpickles.
 
 Every read error is a :class:`~splinecontact.ProfileReadError` naming the file (and line or
 index) and what to do; irregular data are refused by :func:`~splinecontact.preprocess.to_profile`
@@ -56,7 +69,12 @@ from ._errors import (
     UnknownFormatError,
     X3PError,
 )
-from ._instruments import INSTRUMENT_EXTENSIONS, read_with_surfacetopography
+from ._instruments import (
+    AMBIGUOUS_EXTENSIONS,
+    INSTRUMENT_EXTENSIONS,
+    InstrumentFileError,
+    read_with_surfacetopography,
+)
 from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_max_points
 from ._numpy import NumpyFileError, read_npy, read_npz
 from ._text import METADATA_COMMENT, has_utf16_bom, is_dektak, read_dektak, read_table
@@ -73,6 +91,7 @@ __all__ = [
     "EmptyFileError",
     "FileTooLargeError",
     "FormatMismatchError",
+    "InstrumentFileError",
     "LineSelectionError",
     "MalformedRowError",
     "MissingExtraError",
@@ -162,6 +181,8 @@ def detect_format(path: str | os.PathLike[str]) -> str:
     }
 
     if suffix in _TEXT_EXTENSIONS:
+        if kind != "text" and suffix in AMBIGUOUS_EXTENSIONS:
+            return "surfacetopography"  # e.g. a binary Zygo MetroPro .dat
         if kind != "text":
             hint = f"pass format='{kind}' or rename it" if kind in FORMATS else "check the file"
             raise FormatMismatchError(
