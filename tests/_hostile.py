@@ -68,7 +68,9 @@ def member(name: str, data: bytes, declared: int | None = None) -> tuple[str, by
     return name, stream, zlib.crc32(data), size, size if declared is None else declared
 
 
-def zeros_member(name: str, n_bytes: int, declared: int | None = None) -> tuple[str, bytes, int, int, int]:
+def zeros_member(
+    name: str, n_bytes: int, declared: int | None = None
+) -> tuple[str, bytes, int, int, int]:
     """A member inflating to ``n_bytes`` zeros (a bomb when large)."""
     stream, crc = _zeros_deflate(n_bytes)
     return name, stream, crc, n_bytes, n_bytes if declared is None else declared
@@ -164,7 +166,7 @@ def npz_bomb(path: Path, n_points: int) -> None:
     members = []
     for name in ("x", "z"):
         header = npy_header((n_points,))
-        stream, crc = _zeros_deflate(n_points * 8)
+        stream, _ = _zeros_deflate(n_points * 8)
         # the header must be deflated too: prepend it as a stored-then-flushed block
         compressor = zlib.compressobj(9, zlib.DEFLATED, -15)
         head = compressor.compress(header) + compressor.flush(zlib.Z_FULL_FLUSH)

@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _hostile import good_x3p, npy_bytes, x3p_xml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from _hostile import good_x3p, npy_bytes, x3p_xml
 from splinecontact import SplineContactError
 from splinecontact.generate import weierstrass_mandelbrot
 from splinecontact.io import read_profile, write_profile
@@ -99,7 +99,7 @@ _GARBAGE = [
     b";;;;,,,,\t\t",
     "µm Å μm".encode(),
     b"\r\r\n\n",
-    b"# splinecontact-metadata: {\"profile_metadata\": {\"preprocessing\": 5}}\n",
+    b'# splinecontact-metadata: {"profile_metadata": {"preprocessing": 5}}\n',
     b"# splinecontact-metadata: " + b"[" * 3000 + b"\n",
 ]
 _BOMS = [b"\xef\xbb\xbf", b"\xff\xfe", b"\xfe\xff"]
@@ -223,7 +223,7 @@ def _attempt(path: Path, options: dict[str, object], tally: Tally, label: str) -
         tally.accepted += 1
     except SplineContactError as exc:
         tally.refused[type(exc).__name__] += 1
-    except Exception as exc:  # the failure this suite exists to find  # noqa: BLE001
+    except Exception as exc:  # the failure this suite exists to find
         tally.escaped.append(f"{label} {options}: {type(exc).__name__}: {str(exc)[:200]}")
     tally.slowest = max(tally.slowest, time.perf_counter() - start)
     tally.inputs += 1
@@ -289,7 +289,9 @@ def _hypothesis_check(tmp_path: Path, suffix: str, data: bytes, options: dict[st
     assert tally.escaped == [], tally.escaped
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
 @given(table=_tables, unit=st.sampled_from([None, "um"]), spacing=st.sampled_from([None, 1.0]))
 def test_any_text_table_gives_profile_or_specific_error(
     tmp_path: Path,
@@ -303,7 +305,9 @@ def test_any_text_table_gives_profile_or_specific_error(
     _hypothesis_check(tmp_path, ".csv", data, {"unit": unit, "spacing": spacing})
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
 @given(
     blob=st.binary(max_size=4096),
     prefix=st.sampled_from([b"", b"PK\x03\x04", b"\x93NUMPY\x01\x00", b"\xff\xfe"]),

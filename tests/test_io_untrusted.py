@@ -9,7 +9,6 @@ subprocess.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import os
 import subprocess
@@ -20,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from _hostile import (
     good_x3p,
     member,
@@ -33,7 +33,6 @@ from _hostile import (
     x3p_xml,
     x3p_xml_bomb,
 )
-
 from splinecontact import GridNotUniformError, ProfileError, SplineContactError
 from splinecontact.io import (
     CorruptFileError,
@@ -47,7 +46,6 @@ from splinecontact.io import (
     UnitError,
     X3PError,
     read_profile,
-    read_raw,
 )
 from splinecontact.io._text import _split_titles, _title_words
 from splinecontact.io._units import bracketed, strip_bracketed, unit_in_text
@@ -81,7 +79,7 @@ def test_x3p_data_bomb_refused_from_the_zip_directory(tmp_path: Path) -> None:
 def test_x3p_bomb_with_forged_directory_stops_while_streaming(tmp_path: Path) -> None:
     path = tmp_path / "forged.x3p"
     x3p_forged_size_bomb(path, 256 * MiB)
-    with pytest.raises(CorruptFileError, match="data.bin"):
+    with pytest.raises(CorruptFileError, match=r"data.bin"):
         read_profile(path)
 
 
@@ -95,7 +93,7 @@ def test_x3p_matching_bomb_refused_by_the_point_limit(tmp_path: Path) -> None:
 def test_x3p_xml_bomb_refused(tmp_path: Path) -> None:
     path = tmp_path / "xml.x3p"
     x3p_xml_bomb(path, 256 * MiB)
-    with pytest.raises(FileTooLargeError, match="main.xml declares 268,435,456 bytes"):
+    with pytest.raises(FileTooLargeError, match=r"main.xml declares 268,435,456 bytes"):
         read_profile(path)
 
 
@@ -281,7 +279,7 @@ def test_x3p_bad_sizes(
 def test_x3p_bad_increment(tmp_path: Path, increment: str) -> None:
     path = tmp_path / "i.x3p"
     write_x3p(path, x3p_xml(increment_x=increment), bytes(80))
-    with pytest.raises(X3PError, match="increment|finite"):
+    with pytest.raises(X3PError, match=r"increment|finite"):
         read_profile(path)
 
 
@@ -349,7 +347,7 @@ def test_npz_bad_crc(tmp_path: Path) -> None:
     data = bytearray(buffer.getvalue())
     data[data.rfind(np.arange(10.0).tobytes()[16:24])] ^= 1
     (tmp_path / "crc.npz").write_bytes(bytes(data))
-    with pytest.raises(CorruptFileError, match="'z'.*Bad CRC-32"):
+    with pytest.raises(CorruptFileError, match=r"'z'.*Bad CRC-32"):
         read_profile(tmp_path / "crc.npz", unit="um")
 
 
@@ -383,7 +381,11 @@ def test_npy_wrong_dtypes_and_shapes(tmp_path: Path, array: np.ndarray, fragment
 
 @pytest.mark.parametrize(
     ("shape", "error"),
-    [((10**10,), FileTooLargeError), ((1_500_000_000,), FileTooLargeError), ((50,), CorruptFileError)],
+    [
+        ((10**10,), FileTooLargeError),
+        ((1_500_000_000,), FileTooLargeError),
+        ((50,), CorruptFileError),
+    ],
 )
 def test_npy_header_shapes_checked_before_reading(
     tmp_path: Path, shape: tuple[int, ...], error: type[Exception]
@@ -397,7 +399,7 @@ def test_npy_damaged_header_dict_and_empty_files(tmp_path: Path) -> None:
     data = npy_bytes(np.arange(10.0))
     broken = data.replace(b"'shape': (10,)", b"'shape': (10, ")
     (tmp_path / "b.npy").write_bytes(broken)
-    with pytest.raises(CorruptFileError, match="no readable .npy header"):
+    with pytest.raises(CorruptFileError, match=r"no readable .npy header"):
         read_profile(tmp_path / "b.npy", unit="um", spacing=1.0)
     (tmp_path / "e.bin").write_bytes(b"")
     for fmt in ("npy", "npz", "x3p"):
@@ -460,9 +462,10 @@ def test_missing_sample_is_never_regularised(tmp_path: Path, positions: list[int
     path = tmp_path / "gap.csv"
     tokens = [f"{v}" if v < 10 or positions[1] == 1 else f"{v // 10}e1" for v in positions]
     path.write_text(
-        "x [nm], z [nm]\n" + "".join(f"{t}, {np.sin(v):.4f}\n" for t, v in zip(tokens, positions))
+        "x [nm], z [nm]\n"
+        + "".join(f"{t}, {np.sin(v):.4f}\n" for t, v in zip(tokens, positions, strict=True))
     )
-    with pytest.raises(GridNotUniformError, match="cannot be told from rounding|missing"):
+    with pytest.raises(GridNotUniformError, match=r"cannot be told from rounding|missing"):
         read_profile(path)
 
 
@@ -470,12 +473,15 @@ def test_coarse_print_with_distinguishable_gap_refused(tmp_path: Path) -> None:
     exact = 0.156 * np.arange(64)
     printed = np.round(np.delete(exact, 30), 1)
     path = tmp_path / "dg.csv"
-    path.write_text("x [um], z [um]\n" + "".join(f"{v:.1f}, {i % 5}\n" for i, v in enumerate(printed)))
+    path.write_text(
+        "x [um], z [um]\n" + "".join(f"{v:.1f}, {i % 5}\n" for i, v in enumerate(printed))
+    )
     with pytest.raises(GridNotUniformError, match="missing or extra"):
         read_profile(path)
     full = tmp_path / "ok.csv"
     full.write_text(
-        "x [um], z [um]\n" + "".join(f"{v:.1f}, {i % 5}\n" for i, v in enumerate(np.round(exact, 1)))
+        "x [um], z [um]\n"
+        + "".join(f"{v:.1f}, {i % 5}\n" for i, v in enumerate(np.round(exact, 1)))
     )
     p = read_profile(full)
     assert p.metadata["preprocessing"][0]["step"] == "regularize_grid"
@@ -579,7 +585,9 @@ def test_decimal_comma_whitespace_table(tmp_path: Path) -> None:
 @pytest.mark.parametrize("sep", ["  ", " ", "\t"])
 def test_multi_word_whitespace_titles_with_units(tmp_path: Path, sep: str) -> None:
     path = tmp_path / "mw.txt"
-    path.write_text(f"Lateral µm{sep}Height microns\n" + "".join(f"{i}  {i % 3}\n" for i in range(8)))
+    path.write_text(
+        f"Lateral µm{sep}Height microns\n" + "".join(f"{i}  {i % 3}\n" for i in range(8))
+    )
     p = read_profile(path)
     assert p.metadata["units"]["x"] == "µm"
     assert p.metadata["units"]["z"] == "µm"

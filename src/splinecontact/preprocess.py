@@ -40,11 +40,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from .errors import (
     GridNotIncreasingError,
-    ProfileShapeError,
     GridNotUniformError,
     NonFiniteValueError,
     ParameterError,
     ProfileError,
+    ProfileShapeError,
 )
 from .profile import MIN_POINTS, UNIFORM_GRID_RTOL, Profile
 
@@ -629,7 +629,9 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
         tolerance = raw.x_resolution * (1 + 1e-9) + 4 * np.finfo(float).eps * np.max(np.abs(x))
         diffs = np.diff(x)
         median_step = float(np.median(diffs))
-        steps_consistent = _rounded_grid_steps(diffs, float(fitted[1] - fitted[0]), raw.x_resolution)
+        steps_consistent = _rounded_grid_steps(
+            diffs, float(fitted[1] - fitted[0]), raw.x_resolution
+        )
         if raw.x_resolution > 0 and fit_deviation <= tolerance and steps_consistent:
             steps.append(
                 {
@@ -653,23 +655,23 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
             gap = np.flatnonzero(np.abs(diffs - median_step) >= 0.5 * median_step)
             q = mean_step / raw.x_resolution if raw.x_resolution > 0 else np.inf
             if 2.0 * q < np.floor(q) + 2.0:
-                missing = (
+                why = (
                     f"; the positions are printed so coarsely ({raw.x_resolution:.3g} µm for a "
                     f"step of {mean_step:.3g} µm) that a missing sample cannot be told from "
                     "rounding (export more decimals)"
                 )
             elif gap.size:
-                missing = (
+                why = (
                     f"; {gap.size} step(s) differ from the median step {median_step:.9g} µm by "
                     f"half a step or more (first {gap[0]}→{gap[0] + 1}): a sample is missing "
                     "or extra"
                 )
             else:
-                missing = ""
+                why = ""
             raise GridNotUniformError(
                 f"{source}: the grid is not uniform: step {k}→{k + 1}{line} is "
                 f"{steps_[k]:.9g} µm but the mean step is {mean_step:.9g} µm; point {worst} "
-                f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}{missing}; "
+                f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}{why}; "
                 "resample with nonuniform='resample' (CLI: --nonuniform resample)"
             )
         else:

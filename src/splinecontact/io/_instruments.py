@@ -196,4 +196,3 @@ def _read(
     if uniform and x_um.size:
         x_um = x_um - x_um[0]
     return RawProfile(x_um, z * factor, metadata=metadata)
-

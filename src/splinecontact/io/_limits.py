@@ -8,7 +8,7 @@ line by line with a bound on the length of a line.
 
 from __future__ import annotations
 
-import operator
+import numbers
 from pathlib import Path
 from typing import IO
 
@@ -46,12 +46,9 @@ def one_line(exc: BaseException, limit: int = 120) -> str:
 
 def check_max_points(max_points: object) -> int:
     """Validate the ``max_points=`` argument (a positive integer)."""
-    if isinstance(max_points, bool):
+    if isinstance(max_points, bool) or not isinstance(max_points, numbers.Integral):
         raise ReadOptionError(f"max_points={max_points!r} must be a positive integer")
-    try:
-        value = operator.index(max_points)  # type: ignore[call-overload]
-    except TypeError:
-        raise ReadOptionError(f"max_points={max_points!r} must be a positive integer") from None
+    value = int(max_points)
     if value < 1:
         raise ReadOptionError(f"max_points={max_points!r} must be a positive integer")
     return int(value)

@@ -83,11 +83,11 @@ def _read_array(
     counting = _Counting(stream)
     what = f"array {name!r}"
     try:
-        version = np.lib.format.read_magic(counting)  # type: ignore[no-untyped-call]
+        version = np.lib.format.read_magic(counting)
         if version == (1, 0):
-            header = np.lib.format.read_array_header_1_0(counting)  # type: ignore[no-untyped-call]
+            header = np.lib.format.read_array_header_1_0(counting)
         elif version == (2, 0):
-            header = np.lib.format.read_array_header_2_0(counting)  # type: ignore[no-untyped-call]
+            header = np.lib.format.read_array_header_2_0(counting)
         else:
             raise NumpyFileError(
                 f"{path}: {what} is in .npy format version {version}, which is not supported; "
@@ -301,9 +301,7 @@ def _member(
     info = archive.getinfo(f"{name}.npy")
     try:
         with archive.open(info) as stream:
-            return _read_array(
-                path, stream, info.file_size, name, max_points=max_points, text=text
-            )
+            return _read_array(path, stream, info.file_size, name, max_points=max_points, text=text)
     except ZIP_ERRORS as exc:
         raise CorruptFileError(
             f"{path}: array {name!r} cannot be read ({one_line(exc)}); the archive is damaged"
@@ -328,7 +326,9 @@ def read_npz(
                 f"{path}: not a readable .npz archive (not a zip of .npy arrays: {one_line(exc)})"
             ) from None
         except ZIP_ERRORS as exc:
-            raise CorruptFileError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
+            raise CorruptFileError(
+                f"{path}: the zip archive is damaged ({one_line(exc)})"
+            ) from None
         with archive:
             names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
             if "z" not in names:

@@ -17,9 +17,8 @@ from __future__ import annotations
 import array
 import codecs
 import io
-import json
 import math
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Generator, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,7 +28,6 @@ from numpy.typing import NDArray
 
 from ..preprocess import RawProfile
 from ._errors import (
-    CorruptFileError,
     EmptyFileError,
     FileTooLargeError,
     LineSelectionError,
@@ -108,7 +106,9 @@ def _decode_line(line: str) -> str:
     return line
 
 
-def iter_lines(path: Path, *, max_line_chars: int = MAX_LINE_CHARS) -> Iterator[tuple[int, str]]:
+def iter_lines(
+    path: Path, *, max_line_chars: int = MAX_LINE_CHARS
+) -> Generator[tuple[int, str], None, None]:
     """``(line number, text)`` of each line of a text file, read one line at a time.
 
     UTF-16 (with BOM), UTF-8 (with or without BOM) or, line by line, Windows-1252; ``\\n``,

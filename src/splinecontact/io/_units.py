@@ -6,7 +6,14 @@ import re
 
 from ._errors import UnitError
 
-__all__ = ["UNIT_FACTORS", "bracketed", "is_unit_word", "normalize_unit", "strip_bracketed", "unit_in_text"]
+__all__ = [
+    "UNIT_FACTORS",
+    "bracketed",
+    "is_unit_word",
+    "normalize_unit",
+    "strip_bracketed",
+    "unit_in_text",
+]
 
 #: Factor converting one of each unit to µm.
 UNIT_FACTORS: dict[str, float] = {

@@ -62,6 +62,10 @@ def _refuse(*_args: object) -> None:
     raise _Forbidden
 
 
+def _refuse_reference(*_args: object) -> int:
+    raise _Forbidden
+
+
 def _parse_xml(path: Path, data: bytes) -> ElementTree.Element:
     """Parse ``main.xml`` with no entity expansion and no external resource.
 
@@ -73,7 +77,7 @@ def _parse_xml(path: Path, data: bytes) -> ElementTree.Element:
     checker.StartDoctypeDeclHandler = _refuse
     checker.EntityDeclHandler = _refuse
     checker.UnparsedEntityDeclHandler = _refuse
-    checker.ExternalEntityRefHandler = _refuse
+    checker.ExternalEntityRefHandler = _refuse_reference
     checker.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     try:
         checker.Parse(data, True)
@@ -220,7 +224,9 @@ def read_x3p(
         try:
             archive = zipfile.ZipFile(handle)
         except zipfile.BadZipFile as exc:
-            raise X3PError(f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})") from None
+            raise X3PError(
+                f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})"
+            ) from None
         except ZIP_ERRORS as exc:
             raise DamagedX3PError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
         with archive:
@@ -243,9 +249,9 @@ def _read_archive(
     root = _parse_xml(path, _read_member(path, archive, info, info.file_size))
     feature = _text(root, "Record1", "FeatureType")
     if feature not in ("PRF", "SUR"):
-        shown = feature if feature is None else feature[:40]
+        feature_shown = feature if feature is None else feature[:40]
         raise X3PError(
-            f"{path}: feature type {shown!r} is not supported; only PRF (profile) and "
+            f"{path}: feature type {feature_shown!r} is not supported; only PRF (profile) and "
             "SUR (areal surface) can be read"
         )
     axes = {}
@@ -269,8 +275,8 @@ def _read_archive(
     x_offset = _float(path, root, "Record1", "Axes", "CX", "Offset", default=0.0)
     z_type = axes["CZ"]["data_type"]
     if z_type not in _DTYPES:
-        shown = z_type if z_type is None else z_type[:40]
-        raise X3PError(f"{path}: z data type {shown!r} is not one of I, L, F, D")
+        type_shown = z_type if z_type is None else z_type[:40]
+        raise X3PError(f"{path}: z data type {type_shown!r} is not one of I, L, F, D")
     z_increment = _float(path, root, "Record1", "Axes", "CZ", "Increment", default=1.0)
     z_offset = _float(path, root, "Record1", "Axes", "CZ", "Offset", default=0.0)
     size_x = _size(path, root, "SizeX")
