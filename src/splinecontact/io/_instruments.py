@@ -192,7 +192,8 @@ def _read(
         "x_factor_to_um": factor,
         "z_factor_to_um": factor,
     }
-    x_um = np.asarray(x, dtype=np.float64) * factor
-    if uniform and x_um.size:
-        x_um = x_um - x_um[0]
-    return RawProfile(x_um, z * factor, metadata=metadata)
+    with np.errstate(over="ignore", invalid="ignore"):
+        x_um = np.asarray(x, dtype=np.float64) * factor
+        if uniform and x_um.size:
+            x_um = x_um - x_um[0]
+        return RawProfile(x_um, z * factor, metadata=metadata)

@@ -580,6 +580,32 @@ def _table_to_raw(
     line: int | None = None,
     extra: dict[str, Any] | None = None,
 ) -> RawProfile:
+    """The raw profile of a parsed table (a value overflowing on unit conversion becomes inf,
+    an undefined point, without a RuntimeWarning)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _table_columns_to_raw(
+            path,
+            table,
+            fmt=fmt,
+            unit=unit,
+            height_unit=height_unit,
+            spacing=spacing,
+            line=line,
+            extra=extra,
+        )
+
+
+def _table_columns_to_raw(
+    path: Path,
+    table: _Table,
+    *,
+    fmt: str,
+    unit: str | None,
+    height_unit: str | None,
+    spacing: float | None,
+    line: int | None,
+    extra: dict[str, Any] | None,
+) -> RawProfile:
     columns = table.columns
     n_columns = len(columns)
     n_rows = table.values.shape[0]
