@@ -36,6 +36,9 @@ from splinecontact.generate import weierstrass_mandelbrot
 from splinecontact.io import read_profile, write_profile
 from splinecontact.preprocess import Preprocessing
 
+#: A warning while reading is an extra line besides the one error line: it counts as an escape.
+pytestmark = pytest.mark.filterwarnings("error")
+
 DATA = Path(__file__).parent / "data"
 _TEXT_SUFFIXES = {".csv", ".txt", ".hfm", ".dat"}
 _MAX_TEXT_LINES = 300  # large text seeds are cut (their headers kept) to keep each read fast

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 import os
 import tokenize
+import warnings
 import zipfile
 from pathlib import Path
 from typing import IO, Any
@@ -83,16 +84,18 @@ def _read_array(
     counting = _Counting(stream)
     what = f"array {name!r}"
     try:
-        version = np.lib.format.read_magic(counting)
-        if version == (1, 0):
-            header = np.lib.format.read_array_header_1_0(counting)
-        elif version == (2, 0):
-            header = np.lib.format.read_array_header_2_0(counting)
-        else:
-            raise NumpyFileError(
-                f"{path}: {what} is in .npy format version {version}, which is not supported; "
-                "save it with numpy.save"
-            )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numpy's notes on old headers: not our one line
+            version = np.lib.format.read_magic(counting)
+            if version == (1, 0):
+                header = np.lib.format.read_array_header_1_0(counting)
+            elif version == (2, 0):
+                header = np.lib.format.read_array_header_2_0(counting)
+            else:
+                raise NumpyFileError(
+                    f"{path}: {what} is in .npy format version {version}, which is not "
+                    "supported; save it with numpy.save"
+                )
         shape, fortran, dtype = header
     except _HEADER_ERRORS as exc:
         raise CorruptFileError(
