@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from _hostile import (
     good_x3p,
@@ -731,3 +733,57 @@ def test_report_bombs_refused_in_bounded_memory(tmp_path: Path) -> None:
         assert outcome == expected, report[-1]
         assert rss_kb <= 200 * 1024, report[-1]
     print("\n".join(report))  # the figures quoted in docs/measured-profiles.md (run with -s)
+
+
+# --- D22 oracle: well-formed tables read back exactly --------------------------------------------
+
+_TITLES = [
+    (("x [um]", "z [nm]"), (1.0, 1e-3)),
+    (("Lateral µm", "Height nm"), (1.0, 1e-3)),
+    (("Lateral um", "Total Profile nm"), (1.0, 1e-3)),
+    (("x (mm)", "z (um)"), (1e3, 1.0)),
+    (("Position microns", "Height microns"), (1.0, 1.0)),
+]
+
+
+@settings(
+    max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    n=st.integers(5, 40),
+    step=st.sampled_from([0.5, 0.25, 1.0, 2.5]),
+    seed=st.integers(0, 2**16),
+    sep=st.sampled_from(["  ", "\t", " ", ";", ","]),
+    decimal_comma=st.booleans(),
+    titles=st.sampled_from(_TITLES),
+    encoding=st.sampled_from(["utf-8", "utf-8-sig", "utf-16", "cp1252"]),
+    newline=st.sampled_from(["\n", "\r\n", "\r"]),
+)
+def test_well_formed_tables_read_back_exactly(
+    tmp_path: Path,
+    n: int,
+    step: float,
+    seed: int,
+    sep: str,
+    decimal_comma: bool,
+    titles: tuple[tuple[str, str], tuple[float, float]],
+    encoding: str,
+    newline: str,
+) -> None:
+    if decimal_comma and sep == ",":
+        sep = ";"
+    (x_title, z_title), (x_factor, z_factor) = titles
+    x = np.arange(n) * step
+    z = np.round(np.random.default_rng(seed).normal(scale=50.0, size=n), 4)
+
+    def num(v: float, digits: int) -> str:
+        text = f"{v:.{digits}f}"
+        return text.replace(".", ",") if decimal_comma else text
+
+    lines = [f"{x_title}{sep}{z_title}"]
+    lines += [f"{num(a, 2)}{sep}{num(b, 4)}" for a, b in zip(x, z, strict=True)]
+    path = tmp_path / "oracle.txt"
+    path.write_bytes((newline.join(lines) + newline).encode(encoding))
+    p = read_profile(path)
+    np.testing.assert_allclose(p.x, x * x_factor, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(p.z, z * z_factor, rtol=1e-12, atol=1e-12)
