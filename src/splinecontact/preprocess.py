@@ -492,6 +492,12 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
     half a unit, and the fitted grid itself may be off by up to another half.) This is recorded
     as step ``"regularize_grid"`` with the largest deviation. Any larger deviation is a real
     non-uniformity.
+
+    A missing sample is never regularised away: the fitted step s is also compared with every
+    printed step and with the median step. Rounding to a resolution r gives steps of exactly
+    k·r or (k+1)·r (k = ⌊s/r⌋) and a missing sample a step near 2s, so every step must be k·r
+    or (k+1)·r and 2s/r ≥ k + 2 (else a double step could pass for a single one: with
+    s < 1.5 r the grid is refused as too coarsely printed to tell).
     """
     opts = options if options is not None else Preprocessing()
     source = _source(raw)
