@@ -57,7 +57,7 @@ INSTRUMENT_EXTENSIONS = frozenset(
         ".datx", ".di", ".ezd", ".frt", ".gwy", ".h5", ".hgt", ".ibw", ".jpk", ".lext", ".mat",
         ".mdt", ".mi", ".mnt", ".nc", ".nid", ".nms", ".oir", ".opd", ".opdx", ".os3d", ".plu",
         ".plux", ".poir", ".ps", ".qep", ".sdf", ".spm", ".stp", ".sur", ".tif", ".tiff",
-        ".tmd", ".tom", ".top", ".vk3", ".vk4", ".vk6", ".vk7", ".wsxm", ".xlsx", ".xyz",
+        ".tmd", ".tom", ".top", ".vk3", ".vk4", ".vk6", ".vk7", ".wsxm", ".xlsx",
         ".zmg", ".zon",
     }
 )  # fmt: skip
