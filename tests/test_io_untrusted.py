@@ -787,3 +787,18 @@ def test_well_formed_tables_read_back_exactly(
     p = read_profile(path)
     np.testing.assert_allclose(p.x, x * x_factor, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(p.z, z * z_factor, rtol=1e-12, atol=1e-12)
+
+
+def test_wrong_option_types_are_specific_errors(tmp_path: Path) -> None:
+    path = tmp_path / "t.csv"
+    path.write_text("x [um], z [um]\n" + "".join(f"{i}, 0\n" for i in range(6)))
+    with pytest.raises(ReadOptionError, match="format=5"):
+        read_profile(path, format=5)  # type: ignore[arg-type]
+    with pytest.raises(PreprocessingOptionError, match="not a Preprocessing"):
+        read_profile(path, preprocessing="tilt")  # type: ignore[arg-type]
+    with pytest.raises(ReadOptionError, match="line="):
+        read_profile(path, line=1.5)  # type: ignore[arg-type]
+    with pytest.raises(ReadOptionError, match="spacing="):
+        read_profile(path, spacing="wide")  # type: ignore[arg-type]
+    with pytest.raises(PreprocessingOptionError, match="crop="):
+        Preprocessing(crop=(0, "a"))  # type: ignore[arg-type]

@@ -499,6 +499,12 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
     or (k+1)·r and 2s/r ≥ k + 2 (else a double step could pass for a single one: with
     s < 1.5 r the grid is refused as too coarsely printed to tell).
     """
+    if options is not None and not isinstance(options, Preprocessing):
+        raise PreprocessingOptionError(
+            f"preprocessing={str(options)[:60]!r} is not a Preprocessing(...) policy"
+        )
+    if not isinstance(raw, RawProfile):
+        raise ProfileError(f"to_profile needs a RawProfile, got {type(raw).__name__}")
     opts = options if options is not None else Preprocessing()
     source = _source(raw)
     earlier = raw.metadata.get("preprocessing", [])

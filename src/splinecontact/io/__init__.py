@@ -282,7 +282,7 @@ def _read_raw(
     if format is None:
         fmt = detect_format(p)
     else:
-        fmt = format.lower()
+        fmt = str(format).lower()
         if fmt not in FORMATS:
             raise ReadOptionError(f"format={format!r} is not one of {', '.join(FORMATS)}")
     if unit is not None:
