@@ -44,11 +44,13 @@ from .errors import (
     NonFiniteValueError,
     ParameterError,
     ProfileError,
+    ProfileShapeError,
 )
 from .profile import MIN_POINTS, UNIFORM_GRID_RTOL, Profile
 
 __all__ = [
     "CURVATURE_BIAS_LIMIT",
+    "MAX_RESAMPLE_POINTS",
     "CropError",
     "DuplicatePositionError",
     "GridOrderError",
@@ -66,6 +68,12 @@ __all__ = [
 
 #: Number of offending positions listed in an error message.
 _MAX_LISTED = 5
+
+#: Largest |height| [µm] a form is fitted to (squares must stay finite in the least squares).
+_FIT_LIMIT = 1e150
+
+#: Default ceiling on the number of points resampling may create (``Preprocessing.max_points``).
+MAX_RESAMPLE_POINTS = 100_000_000
 
 
 # --- errors ---------------------------------------------------------------------------------
@@ -131,15 +139,28 @@ class RawProfile:
         x_resolution: float = 0.0,
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
-        x_arr = np.asarray(x, dtype=np.float64).ravel().copy()
-        z_arr = np.asarray(z, dtype=np.float64).ravel().copy()
+        x_in, z_in = np.asarray(x), np.asarray(z)
+        if x_in.ndim != 1 or z_in.ndim != 1:
+            raise ProfileShapeError(
+                f"x has shape {x_in.shape} and z {z_in.shape}; a raw scan is one line of "
+                "points (choose one row of areal data with line=, never a flattened map)"
+            )
+        for name, values in (("x", x_in), ("z", z_in)):
+            if np.iscomplexobj(values) or not (
+                np.issubdtype(values.dtype, np.number) or values.dtype == bool
+            ):
+                raise ProfileShapeError(
+                    f"{name} has dtype {values.dtype}; a raw scan needs real numbers"
+                )
+        x_arr = np.array(x_in, dtype=np.float64)
+        z_arr = np.array(z_in, dtype=np.float64)
         if x_arr.size != z_arr.size:
             raise ProfileError(
                 f"x has {x_arr.size} points but z has {z_arr.size}; they must have the same length"
             )
         rows_arr = None
         if rows is not None:
-            rows_arr = np.asarray(rows, dtype=np.int64).ravel().copy()
+            rows_arr = np.array(rows, dtype=np.int64).ravel()
             if rows_arr.size != x_arr.size:
                 raise ProfileError("rows must have one line number per point")
         object.__setattr__(self, "x", x_arr)
@@ -190,6 +211,9 @@ class Preprocessing:
     detrend : {"none", "mean", "tilt"} or int
         Form removal by least squares: nothing, the mean height, a straight line, or a
         polynomial of the given degree (0 is the mean, 1 the tilt). Applied last.
+    max_points : int
+        Largest number of points [1] resampling may create (default 10⁸); a
+        ``resample_spacing`` that would create more is refused before anything is allocated.
     """
 
     undefined: UndefinedPolicy = "refuse"
@@ -200,6 +224,7 @@ class Preprocessing:
     crop: tuple[float, float] | None = None
     zero_origin: bool = False
     detrend: str | int = "none"
+    max_points: int = MAX_RESAMPLE_POINTS
 
     def __post_init__(self) -> None:
         choices: dict[str, tuple[str, ...]] = {
@@ -214,12 +239,28 @@ class Preprocessing:
                 raise PreprocessingOptionError(
                     f"{name}={value!r} is not one of {', '.join(map(repr, allowed))}"
                 )
-        if self.resample_spacing is not None and not self.resample_spacing > 0:
+        if isinstance(self.max_points, bool) or not (
+            isinstance(self.max_points, int | np.integer) and self.max_points >= 1
+        ):
+            raise PreprocessingOptionError(
+                f"max_points={self.max_points!r} must be a positive integer"
+            )
+        if self.resample_spacing is not None and not (
+            isinstance(self.resample_spacing, int | float | np.floating | np.integer)
+            and not isinstance(self.resample_spacing, bool)
+            and np.isfinite(self.resample_spacing)
+            and self.resample_spacing > 0
+        ):
             raise PreprocessingOptionError(
                 f"resample_spacing={self.resample_spacing!r} µm must be positive"
             )
         if self.crop is not None:
-            lo, hi = self.crop
+            try:
+                lo, hi = (float(v) for v in self.crop)
+            except (TypeError, ValueError):
+                raise PreprocessingOptionError(
+                    f"crop={self.crop!r} is not a range; give (x_min, x_max) [µm]"
+                ) from None
             if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
                 raise PreprocessingOptionError(
                     f"crop=({lo!r}, {hi!r}) µm is not a range; give (x_min, x_max) with "
@@ -293,6 +334,29 @@ def _is_uniform(x: NDArray[np.float64]) -> bool:
     )
 
 
+def _rounded_grid_steps(diffs: NDArray[np.float64], fitted_step: float, resolution: float) -> bool:
+    """Whether printed steps are those of a uniform grid rounded to ``resolution``.
+
+    Rounding a uniform grid of step s to multiples of r gives steps of exactly k·r or (k+1)·r,
+    k = ⌊s/r⌋. A missing sample gives a step of ⌊2s/r⌋·r or more, which can only be told from
+    these when 2s/r ≥ k + 2; with a coarser print (s/r < 1.5, say) the two cannot be told apart
+    and the grid is not regularised. So: s/r ≥ 1, every step a multiple k or k+1 of r, and
+    2s/r ≥ k + 2. (The fitted step s is compared with the individual and median steps, never
+    merely with the print resolution.)
+    """
+    if not resolution > 0 or diffs.size == 0:
+        return False
+    q = fitted_step / resolution
+    if not (np.isfinite(q) and q >= 1.0):
+        return False
+    k = int(np.floor(q))
+    units = diffs / resolution
+    m = np.rint(units)
+    if not np.all(np.abs(units - m) <= 1e-3):
+        return False
+    return bool(np.all((m == k) | (m == k + 1)) and 2.0 * q >= k + 2)
+
+
 def _least_squares_grid(x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Uniform grid a + b·i closest to ``x`` in the least-squares sense."""
     i = np.arange(x.size, dtype=np.float64)
@@ -310,11 +374,39 @@ def _fit_form(
 
     Coefficients are in increasing powers of ``x`` [µm^(1-k)], for the record.
     """
-    if degree == 0:
-        mean = float(z.mean())
-        return np.full_like(z, mean), [mean]
-    poly = Polynomial.fit(x, z, degree)  # scaled domain: well conditioned
-    return poly(x), [float(c) for c in poly.convert().coef]
+    with np.errstate(all="ignore"):
+        span = float(np.max(x) - np.min(x)) if x.size else 0.0
+        height = float(np.max(np.abs(z))) if z.size else 0.0
+    if degree > 0 and not (
+        np.isfinite(span)
+        and span / max(x.size - 1, 1) >= np.finfo(np.float64).tiny
+        and height <= _FIT_LIMIT
+    ):
+        # checked first: LAPACK would print to stderr before failing
+        raise ProfileError(
+            f"the form of degree {degree} cannot be fitted to these positions and heights "
+            f"(x spans {span:.3g} µm over {x.size} points, heights up to {height:.3g} µm: "
+            "beyond what floating point resolves); check the file's units and increments"
+        )
+    with np.errstate(all="ignore"):
+        if degree == 0:
+            mean = float(z.mean())
+            form, coefficients = np.full_like(z, mean), [mean]
+        else:
+            try:
+                poly = Polynomial.fit(x, z, degree)  # scaled domain: well conditioned
+                form = poly(x)
+                coefficients = [float(c) for c in poly.convert().coef]
+            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+                form, coefficients = np.full_like(z, np.nan), []
+    if not np.all(np.isfinite(form)):
+        raise ProfileError(
+            f"the form of degree {degree} cannot be fitted to these positions and heights "
+            f"(x spans {float(x[0]):.3g}…{float(x[-1]):.3g} µm, heights up to "
+            f"{float(np.max(np.abs(z))):.3g} µm: beyond what floating point resolves); check "
+            "the file's units and increments"
+        )
+    return form, coefficients
 
 
 # --- the pipeline ---------------------------------------------------------------------------
@@ -326,6 +418,7 @@ def _resample(
     spacing: float | None,
     max_deviation: float,
     steps: list[dict[str, Any]],
+    max_points: int = MAX_RESAMPLE_POINTS,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Linear interpolation onto a uniform grid (``spacing`` [µm], or as many points as x).
 
@@ -334,7 +427,15 @@ def _resample(
     if spacing is None:
         new_x = _uniform_grid(float(x[0]), float(x[-1]), x.size)
     else:
-        n_new = int(np.floor((x[-1] - x[0]) / spacing + 1e-9)) + 1
+        with np.errstate(over="ignore"):
+            n_float = float(np.floor((x[-1] - x[0]) / spacing + 1e-9)) + 1
+        if not n_float <= max_points:
+            raise PreprocessingOptionError(
+                f"resample_spacing={spacing!r} µm over {float(x[-1] - x[0]):.6g} µm would "
+                f"create {n_float:.3g} points, more than max_points={max_points:,}; choose a "
+                "larger spacing (or raise Preprocessing.max_points)"
+            )
+        n_new = int(n_float)
         new_x = x[0] + spacing * np.arange(n_new)
     steps.append(
         {
@@ -391,9 +492,29 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
     half a unit, and the fitted grid itself may be off by up to another half.) This is recorded
     as step ``"regularize_grid"`` with the largest deviation. Any larger deviation is a real
     non-uniformity.
+
+    A missing sample is never regularised away: the fitted step s is also compared with every
+    printed step and with the median step. Rounding to a resolution r gives steps of exactly
+    k·r or (k+1)·r (k = ⌊s/r⌋) and a missing sample a step near 2s, so every step must be k·r
+    or (k+1)·r and 2s/r ≥ k + 2 (else a double step could pass for a single one: with
+    s < 1.5 r the grid is refused as too coarsely printed to tell).
     """
+    if options is not None and not isinstance(options, Preprocessing):
+        raise PreprocessingOptionError(
+            f"preprocessing={str(options)[:60]!r} is not a Preprocessing(...) policy"
+        )
+    if not isinstance(raw, RawProfile):
+        raise ProfileError(f"to_profile needs a RawProfile, got {type(raw).__name__}")
     opts = options if options is not None else Preprocessing()
     source = _source(raw)
+    earlier = raw.metadata.get("preprocessing", [])
+    if not isinstance(earlier, list) or not all(
+        isinstance(step, Mapping) and isinstance(step.get("step"), str) for step in earlier
+    ):
+        raise ProfileError(
+            f"{source}: metadata['preprocessing'] is {str(earlier)[:60]!r}, not a list of step "
+            "records; the stored metadata is damaged"
+        )
     x, z = raw.x.copy(), raw.z.copy()
     rows = None if raw.rows is None else raw.rows.copy()
     steps: list[dict[str, Any]] = []
@@ -416,16 +537,21 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
             steps.append({"step": "drop_undefined_positions", "n_dropped": int(no_position.sum())})
             x, z = x[keep], z[keep]
             rows = None if rows is None else rows[keep]
+            if x.size < MIN_POINTS:
+                raise UndefinedPointsError(
+                    f"{source}: only {x.size} of {no_position.size} point(s) have a defined "
+                    f"position; a profile needs at least {MIN_POINTS} — check the x column"
+                )
 
     # 2. crop
     if opts.crop is not None:
         lo, hi = opts.crop
         keep = (x >= lo) & (x <= hi)
         if keep.sum() < MIN_POINTS:
+            span = f"x spans {np.min(x):.9g}…{np.max(x):.9g} µm" if x.size else "no points"
             raise CropError(
                 f"{source}: crop=({lo:g}, {hi:g}) µm keeps {int(keep.sum())} point(s) of {x.size} "
-                f"(x spans {np.nanmin(x):.9g}…{np.nanmax(x):.9g} µm); choose a range inside "
-                f"the scan with at least {MIN_POINTS} points"
+                f"({span}); choose a range inside the scan with at least {MIN_POINTS} points"
             )
         steps.append(
             {"step": "crop", "x_min_um": lo, "x_max_um": hi, "n_removed": int((~keep).sum())}
@@ -497,6 +623,15 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
         )
 
     # 6. the grid
+    if x.size >= 2:
+        with np.errstate(over="ignore"):
+            mean_step = float((x[-1] - x[0]) / (x.size - 1))
+        if not (np.isfinite(mean_step) and mean_step >= np.finfo(np.float64).tiny):
+            raise GridNotUniformError(
+                f"{source}: the grid step {mean_step!r} µm is beyond the range floating point "
+                f"resolves (x spans {float(x[0]):.3g}…{float(x[-1]):.3g} µm); check the file's "
+                "units and increments"
+            )
     if x.size >= 2 and not _is_uniform(x):
         grid = _uniform_grid(float(x[0]), float(x[-1]), x.size)
         deviation = np.abs(x - grid)
@@ -504,7 +639,12 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
         fitted = _least_squares_grid(x)
         fit_deviation = float(np.max(np.abs(x - fitted)))
         tolerance = raw.x_resolution * (1 + 1e-9) + 4 * np.finfo(float).eps * np.max(np.abs(x))
-        if raw.x_resolution > 0 and fit_deviation <= tolerance:
+        diffs = np.diff(x)
+        median_step = float(np.median(diffs))
+        steps_consistent = _rounded_grid_steps(
+            diffs, float(fitted[1] - fitted[0]), raw.x_resolution
+        )
+        if raw.x_resolution > 0 and fit_deviation <= tolerance and steps_consistent:
             steps.append(
                 {
                     "step": "regularize_grid",
@@ -524,17 +664,35 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
                 if raw.x_resolution > 0
                 else ""
             )
+            gap = np.flatnonzero(np.abs(diffs - median_step) >= 0.5 * median_step)
+            q = mean_step / raw.x_resolution if raw.x_resolution > 0 else np.inf
+            if 2.0 * q < np.floor(q) + 2.0:
+                why = (
+                    f"; the positions are printed so coarsely ({raw.x_resolution:.3g} µm for a "
+                    f"step of {mean_step:.3g} µm) that a missing sample cannot be told from "
+                    "rounding (export more decimals)"
+                )
+            elif gap.size:
+                why = (
+                    f"; {gap.size} step(s) differ from the median step {median_step:.9g} µm by "
+                    f"half a step or more (first {gap[0]}→{gap[0] + 1}): a sample is missing "
+                    "or extra"
+                )
+            else:
+                why = ""
             raise GridNotUniformError(
                 f"{source}: the grid is not uniform: step {k}→{k + 1}{line} is "
                 f"{steps_[k]:.9g} µm but the mean step is {mean_step:.9g} µm; point {worst} "
-                f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}; resample with "
-                "nonuniform='resample' (CLI: --nonuniform resample)"
+                f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}{why}; "
+                "resample with nonuniform='resample' (CLI: --nonuniform resample)"
             )
         else:
-            x, z = _resample(x, z, opts.resample_spacing, float(deviation[worst]), steps)
+            x, z = _resample(
+                x, z, opts.resample_spacing, float(deviation[worst]), steps, opts.max_points
+            )
             rows = None
     elif opts.resample_spacing is not None and opts.nonuniform == "resample" and x.size >= 2:
-        x, z = _resample(x, z, opts.resample_spacing, 0.0, steps)
+        x, z = _resample(x, z, opts.resample_spacing, 0.0, steps, opts.max_points)
 
     # 7. origin
     if opts.zero_origin and x.size:

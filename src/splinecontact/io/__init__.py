@@ -19,8 +19,21 @@ Formats (``format=``; detected from the extension, else from the content):
 ``"npy"``, ``"npz"``
     NumPy arrays (units from ``unit=`` unless written by :func:`write_profile`).
 ``"surfacetopography"``
-    Any other instrument format, through the optional SurfaceTopography package
-    (``pip install "splinecontact[instruments]"``).
+    Any other instrument format (every extension SurfaceTopography registers, e.g. ``.sur
+    .opd .datx .gwy .tiff .xlsx .stp .top .bcrf .nc``, and binary ``.dat`` such as Zygo
+    MetroPro), through the optional SurfaceTopography package
+    (``pip install "splinecontact[instruments]"``); its errors become
+    :class:`InstrumentFileError`.
+
+Origin of x: positions stated by the file are kept (text tables, X3P offsets); a format that
+gives only a grid spacing starts at x = 0 (heights with ``spacing=``, areal ``.npy``, every
+uniform scan read through SurfaceTopography, which does not report the file's origin).
+``Preprocessing(zero_origin=True)`` starts any profile at 0.
+
+Untrusted files: every reader checks what a file declares against what it holds and against
+``max_points`` (default :data:`DEFAULT_MAX_POINTS` = 10⁸ points per file) before allocating,
+reads text line by line (at most :data:`MAX_LINE_CHARS` characters per line), parses X3P
+``main.xml`` without document types or entities, and never unpickles.
 
 Every read error is a :class:`~splinecontact.ProfileReadError` naming the file (and line or
 index) and what to do; irregular data are refused by :func:`~splinecontact.preprocess.to_profile`
@@ -41,7 +54,9 @@ from ..preprocess import Preprocessing, RawProfile, to_profile
 from ..profile import Profile
 from ..results import jsonable
 from ._errors import (
+    CorruptFileError,
     EmptyFileError,
+    FileTooLargeError,
     FormatMismatchError,
     LineSelectionError,
     MalformedRowError,
@@ -54,17 +69,29 @@ from ._errors import (
     UnknownFormatError,
     X3PError,
 )
-from ._instruments import INSTRUMENT_EXTENSIONS, read_with_surfacetopography
+from ._instruments import (
+    AMBIGUOUS_EXTENSIONS,
+    INSTRUMENT_EXTENSIONS,
+    InstrumentFileError,
+    read_with_surfacetopography,
+)
+from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_max_points
 from ._numpy import NumpyFileError, read_npy, read_npz
-from ._text import METADATA_COMMENT, decode_text, is_dektak, read_dektak, read_table
+from ._text import METADATA_COMMENT, has_utf16_bom, is_dektak, read_dektak, read_table
 from ._units import UNIT_FACTORS, normalize_unit
-from ._x3p import read_x3p
+from ._x3p import ZIP_ERRORS, DamagedX3PError, read_x3p
 
 __all__ = [
+    "DEFAULT_MAX_POINTS",
     "FORMATS",
+    "MAX_LINE_CHARS",
     "UNIT_FACTORS",
+    "CorruptFileError",
+    "DamagedX3PError",
     "EmptyFileError",
+    "FileTooLargeError",
     "FormatMismatchError",
+    "InstrumentFileError",
     "LineSelectionError",
     "MalformedRowError",
     "MissingExtraError",
@@ -96,6 +123,8 @@ def _content_kind(head: bytes) -> str:
     """``"empty"``, ``"zip"``, ``"npy"``, ``"binary"`` or ``"text"`` from the first bytes."""
     if not head.strip():
         return "empty"
+    if has_utf16_bom(head):
+        return "text"
     if head.startswith(_ZIP_MAGIC):
         return "zip"
     if head.startswith(_NPY_MAGIC):
@@ -112,7 +141,7 @@ def _zip_kind(path: Path) -> str:
     try:
         with zipfile.ZipFile(path) as archive:
             names = archive.namelist()
-    except zipfile.BadZipFile:
+    except ZIP_ERRORS:
         return "binary"
     if "main.xml" in names:
         return "x3p"
@@ -152,6 +181,8 @@ def detect_format(path: str | os.PathLike[str]) -> str:
     }
 
     if suffix in _TEXT_EXTENSIONS:
+        if kind != "text" and suffix in AMBIGUOUS_EXTENSIONS:
+            return "surfacetopography"  # e.g. a binary Zygo MetroPro .dat
         if kind != "text":
             hint = f"pass format='{kind}' or rename it" if kind in FORMATS else "check the file"
             raise FormatMismatchError(
@@ -184,9 +215,7 @@ def detect_format(path: str | os.PathLike[str]) -> str:
 
 
 def _text_format(path: Path) -> str:
-    with open(path, "rb") as handle:
-        text = decode_text(handle.read())
-    return "dektak" if is_dektak(text) else "table"
+    return "dektak" if is_dektak(path) else "table"
 
 
 def read_raw(
@@ -197,13 +226,20 @@ def read_raw(
     height_unit: str | None = None,
     spacing: float | None = None,
     line: int | None = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> RawProfile:
     """Read a measured line scan into raw arrays (µm), without checks or corrections.
 
     Parameters are those of :func:`read_profile`.
     """
     raw = _read_raw(
-        Path(path), format=format, unit=unit, height_unit=height_unit, spacing=spacing, line=line
+        Path(path),
+        format=format,
+        unit=unit,
+        height_unit=height_unit,
+        spacing=spacing,
+        line=line,
+        max_points=check_max_points(max_points),
     )
     return _with_provenance(raw, Path(path))
 
@@ -234,45 +270,73 @@ def _read_raw(
     height_unit: str | None,
     spacing: float | None,
     line: int | None,
+    max_points: int,
 ) -> RawProfile:
+    if line is not None and (isinstance(line, bool) or not isinstance(line, int | np.integer)):
+        raise ReadOptionError(f"line={line!r} must be a whole row number (0, 1, ...)")
+    if spacing is not None:
+        try:
+            spacing = float(spacing)
+        except (TypeError, ValueError):
+            raise ReadOptionError(f"spacing={spacing!r} must be a number [µm]") from None
     if format is None:
         fmt = detect_format(p)
     else:
-        fmt = format.lower()
+        fmt = str(format).lower()
         if fmt not in FORMATS:
             raise ReadOptionError(f"format={format!r} is not one of {', '.join(FORMATS)}")
     if unit is not None:
         normalize_unit(unit, what="unit=")
     if height_unit is not None:
         normalize_unit(height_unit, what="height_unit=")
-    if line is not None and fmt in ("table", "dektak"):
+    if line is not None and fmt == "dektak":
         raise ReadOptionError(f"{p}: line= is only for areal data (x3p, npy, instruments)")
     if fmt in ("table", "dektak"):
         with open(p, "rb") as handle:
-            data = handle.read()
-        if _content_kind(data[:8192]) not in ("text", "empty"):
+            head = handle.read(8192)
+        if _content_kind(head) not in ("text", "empty"):
             raise FormatMismatchError(f"{p}: format={fmt!r} was asked for, but the file is binary")
-        text = decode_text(data)
         if fmt == "dektak":
-            if not is_dektak(text):
+            if not is_dektak(p):
                 raise NoDataError(
                     f"{p}: no 'Scan Data' line; not a Dektak CSV export (try format='table')"
                 )
             if spacing is not None:
                 raise ReadOptionError(f"{p}: a Dektak export has positions; drop spacing=")
-            return read_dektak(p, text, unit=unit, height_unit=height_unit)
-        return read_table(p, text, unit=unit, height_unit=height_unit, spacing=spacing)
+            return read_dektak(p, unit=unit, height_unit=height_unit, max_points=max_points)
+        return read_table(
+            p,
+            unit=unit,
+            height_unit=height_unit,
+            spacing=spacing,
+            line=None if line is None else int(line),
+            max_points=max_points,
+        )
     if fmt == "x3p":
         if unit is not None or height_unit is not None or spacing is not None:
             raise ReadOptionError(
                 f"{p}: X3P files state their units (metres) and spacing; drop unit=/spacing="
             )
-        return read_x3p(p, line=line)
+        return read_x3p(p, line=line, max_points=max_points)
     if fmt == "npy":
-        return read_npy(p, unit=unit, height_unit=height_unit, spacing=spacing, line=line)
+        return read_npy(
+            p,
+            unit=unit,
+            height_unit=height_unit,
+            spacing=spacing,
+            line=line,
+            max_points=max_points,
+        )
     if fmt == "npz":
-        return read_npz(p, unit=unit, height_unit=height_unit, spacing=spacing, line=line)
-    return read_with_surfacetopography(p, unit=unit, line=line)
+        return read_npz(
+            p,
+            unit=unit,
+            height_unit=height_unit,
+            spacing=spacing,
+            line=line,
+            max_points=max_points,
+        )
+    return read_with_surfacetopography(p, unit=unit, line=line, max_points=max_points)
 
 
 def read_profile(
@@ -284,6 +348,7 @@ def read_profile(
     spacing: float | None = None,
     line: int | None = None,
     preprocessing: Preprocessing | None = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> Profile:
     """Read a measured line scan as a :class:`~splinecontact.Profile` (x, z in µm).
 
@@ -305,6 +370,12 @@ def read_profile(
     preprocessing : Preprocessing, optional
         What may be done to irregular data (undefined points, order, duplicates, non-uniform
         grid, cropping, form removal); the default refuses irregular data and changes nothing.
+    max_points : int, optional
+        Largest number of points [1] a file may hold or declare (an areal file counts all its
+        points; a text table its rows). Default ``DEFAULT_MAX_POINTS`` = 10⁸, far above any
+        real line scan; checked before anything is allocated, so a compressed "bomb" or a
+        forged header is refused at once with ``FileTooLargeError``. Raise it for a genuine
+        scan that large.
 
     Returns
     -------
@@ -320,7 +391,9 @@ def read_profile(
         The file cannot be read (subclasses name the problem: ``EmptyFileError``,
         ``NoDataError``, ``MalformedRowError``, ``MissingUnitsError``, ``UnitError``,
         ``FormatMismatchError``, ``UnknownFormatError``, ``X3PError``, ``MissingExtraError``,
-        ...).
+        ``FileTooLargeError`` (beyond ``max_points``, or a text line beyond ``MAX_LINE_CHARS``
+        characters), ``CorruptFileError`` (damaged archive, checksum, sizes or stored
+        metadata), ...).
     ProfileError
         The data are irregular and ``preprocessing`` does not allow the correction (see
         :func:`splinecontact.preprocess.to_profile`).
@@ -328,7 +401,13 @@ def read_profile(
         The file cannot be opened.
     """
     raw = read_raw(
-        path, format=format, unit=unit, height_unit=height_unit, spacing=spacing, line=line
+        path,
+        format=format,
+        unit=unit,
+        height_unit=height_unit,
+        spacing=spacing,
+        line=line,
+        max_points=max_points,
     )
     return to_profile(raw, preprocessing)
 

@@ -9,7 +9,9 @@ from __future__ import annotations
 from ..errors import ProfileReadError
 
 __all__ = [
+    "CorruptFileError",
     "EmptyFileError",
+    "FileTooLargeError",
     "FormatMismatchError",
     "LineSelectionError",
     "MalformedRowError",
@@ -70,3 +72,18 @@ class MissingExtraError(ProfileReadError):
 
 class ReadOptionError(ProfileReadError):
     """A reading option does not fit the file (e.g. ``spacing=`` for a file with an x column)."""
+
+
+class FileTooLargeError(ProfileReadError):
+    """The file (or a member of an archive) is larger than the reader's stated limit.
+
+    The limit is ``max_points`` points per file (default :data:`DEFAULT_MAX_POINTS`, 10⁸) and
+    a bound on the length of a text line; it is checked before anything is allocated, so a
+    compressed "bomb" or a header declaring 10¹⁰ points is refused at once. Pass a larger
+    ``max_points=`` to :func:`~splinecontact.io.read_profile` for a genuine scan that big.
+    """
+
+
+class CorruptFileError(ProfileReadError):
+    """The file is damaged or inconsistent: a bad checksum or compressed stream, a member
+    shorter or longer than its header declares, stored metadata of the wrong type, ..."""

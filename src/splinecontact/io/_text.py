@@ -5,13 +5,20 @@ one delimiter: semicolon, comma, or white space (tabs and spaces). Units come fr
 titles (``x [mm]``, ``z (nm)``, ``Lateral um``, ``[mm];[mm];[1/0]`` on a line of their own) or
 from the caller. Undefined values (``nan``, ``bad``, ``invalid``, empty fields) become NaN; a
 column titled ``valid`` flags each point (``1`` valid, ``0`` undefined).
+
+Untrusted files: the file is read line by line (no line may exceed ``MAX_LINE_CHARS``), rows are
+stored as packed floats and counted against the limit of points per file as they come, and every
+header and unit parser is a single left-to-right scan (no backtracking regular expression), so
+the time is linear in the size of the file and the memory bounded by the limit.
 """
 
 from __future__ import annotations
 
-import json
-import re
-from collections.abc import Sequence
+import array
+import codecs
+import io
+import math
+from collections.abc import Generator, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -22,6 +29,8 @@ from numpy.typing import NDArray
 from ..preprocess import RawProfile
 from ._errors import (
     EmptyFileError,
+    FileTooLargeError,
+    LineSelectionError,
     MalformedRowError,
     MissingSpacingError,
     MissingUnitsError,
@@ -29,9 +38,18 @@ from ._errors import (
     ReadOptionError,
     UnitError,
 )
-from ._units import UNIT_FACTORS, normalize_unit, unit_in_text
+from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_points
+from ._units import UNIT_FACTORS, is_unit_word, normalize_unit, strip_bracketed, unit_in_text
 
-__all__ = ["METADATA_COMMENT", "decode_text", "is_dektak", "read_dektak", "read_table"]
+__all__ = [
+    "METADATA_COMMENT",
+    "decode_text",
+    "has_utf16_bom",
+    "is_dektak",
+    "iter_lines",
+    "read_dektak",
+    "read_table",
+]
 
 #: Comment prefix under which :func:`splinecontact.io.write_profile` stores metadata as JSON.
 METADATA_COMMENT = "# splinecontact-metadata:"
@@ -57,27 +75,110 @@ _Z_NAMES = ("z", "y", "height", "profile", "total profile", "raw", "altitude", "
 _VALID_NAMES = ("valid", "validity", "mask", "valid point", "valid points")
 _INVALID_NAMES = ("invalid", "bad")
 _DELIMITER_NAMES = {";": "semicolon", ",": "comma", None: "white space"}
+_INF_WORDS = frozenset({"inf", "infinity"})
+#: Header lines (titles, parameters) accepted before the first row of numbers.
+_MAX_HEADER_LINES = 10_000
+#: Lines searched for the "Scan Data" line of a Dektak export.
+_DEKTAK_SCAN_LINES = 10_000
+
+
+def has_utf16_bom(head: bytes) -> bool:
+    """Whether bytes start with a UTF-16 byte-order mark (little or big endian)."""
+    return head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE))
 
 
 def decode_text(data: bytes) -> str:
-    """Decode a text file: UTF-8 (with or without BOM), else Windows-1252 (old exports)."""
+    """Decode text: UTF-16 with a BOM, UTF-8 (with or without BOM), else Windows-1252."""
+    if has_utf16_bom(data):
+        return data.decode("utf-16", errors="replace")
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:
         return data.decode("cp1252", errors="replace")
 
 
+def _decode_line(line: str) -> str:
+    """A line read as UTF-8 with surrogate escapes; a line that is not UTF-8 is Windows-1252."""
+    try:
+        line.encode("utf-8")
+    except UnicodeEncodeError:
+        return line.encode("utf-8", "surrogateescape").decode("cp1252", errors="replace")
+    return line
+
+
+def iter_lines(
+    path: Path, *, max_line_chars: int = MAX_LINE_CHARS
+) -> Generator[tuple[int, str], None, None]:
+    """``(line number, text)`` of each line of a text file, read one line at a time.
+
+    UTF-16 (with BOM), UTF-8 (with or without BOM) or, line by line, Windows-1252; ``\\n``,
+    ``\\r\\n`` and ``\\r`` end lines.
+
+    Raises
+    ------
+    FileTooLargeError
+        A line is longer than ``max_line_chars`` characters (checked before it is kept).
+    """
+    with open(path, "rb") as raw:
+        utf16 = has_utf16_bom(raw.read(2))
+        raw.seek(0)
+        text = io.TextIOWrapper(
+            raw,
+            encoding="utf-16" if utf16 else "utf-8-sig",
+            errors="replace" if utf16 else "surrogateescape",
+            newline=None,
+        )
+        number = 0
+        while True:
+            line = text.readline(max_line_chars + 1)
+            if not line:
+                return
+            number += 1
+            if len(line) > max_line_chars and not line.endswith("\n"):
+                raise FileTooLargeError(
+                    f"{path}, line {number}: longer than {max_line_chars:,} characters; not a "
+                    "text table (binary data, or rows without line breaks?)"
+                )
+            yield number, _decode_line(line.rstrip("\r\n"))
+
+
 def _is_comment(stripped: str) -> bool:
     return stripped.startswith(_COMMENT_PREFIXES)
 
 
+def _is_ascii_digits(text: str) -> bool:
+    return text.isascii() and text.isdigit()
+
+
+def _is_decimal_comma_number(token: str) -> bool:
+    """``-183,90`` or ``1,5e-3``: digits, one decimal comma, digits, optional exponent."""
+    head, sep, tail = token.lstrip("+-").partition(",")
+    if not sep:
+        return False
+    mantissa, e, exponent = tail.lower().partition("e")
+    return (
+        (_is_ascii_digits(head) or head == "")
+        and _is_ascii_digits(mantissa)
+        and (not e or _is_ascii_digits(exponent.lstrip("+-")))
+    )
+
+
 def _delimiter_of(line: str) -> str | None:
-    """Semicolon, else white space if the line has a tab, else comma, else white space."""
+    """Semicolon, else white space if the line has a tab, else comma, else white space.
+
+    A line of white-space separated numbers with decimal commas (``0,0025  -183,90``) is
+    white space separated.
+    """
     if ";" in line:
         return ";"
     if "\t" in line:
         return None
     if "," in line:
+        words = line.split()
+        if len(words) >= 2 and all(
+            _is_decimal_comma_number(w) or _plain_float(w, ",") for w in words
+        ):
+            return None
         return ","
     return None
 
@@ -91,11 +192,101 @@ def _split(line: str, delimiter: str | None) -> list[str]:
     return parts
 
 
-def _split_titles(line: str, delimiter: str | None) -> list[str]:
-    """Split a title line; with white space, keep ``x [mm]`` or ``z (nm)`` together."""
+def _closer(line: str, start: int) -> int:
+    """Index of the first ``]`` or ``)`` at or after ``start``, or -1 (a plain scan)."""
+    for j in range(start, len(line)):
+        if line[j] in "])":
+            return j
+    return -1
+
+
+def _title_words(line: str) -> list[str]:
+    """Words of a white-space title line; ``x [mm]`` and ``z(nm)`` stay one word.
+
+    One left-to-right scan: a bracketed part joins the word right before it; an opening
+    bracket without a closing one after it is dropped. Linear in the length of the line.
+    """
+    last_closer = max(line.rfind("]"), line.rfind(")"))
+    spans: list[list[int]] = []
+    attachable = False
+    i, n = 0, len(line)
+    while i < n:
+        c = line[i]
+        if c.isspace():
+            i += 1
+            continue
+        if c in "[(":
+            j = _closer(line, i + 1) if i < last_closer else -1
+            if j < 0:
+                i += 1
+                attachable = False
+                continue
+            if attachable:
+                spans[-1][1] = j + 1
+            else:
+                spans.append([i, j + 1])
+            attachable = False
+            i = j + 1
+            continue
+        j = i
+        while j < n and not line[j].isspace() and line[j] not in "[(":
+            j += 1
+        spans.append([i, j])
+        attachable = True
+        i = j
+    return [line[a:b] for a, b in spans]
+
+
+def _wide_split(line: str) -> list[str]:
+    """Split on tabs and on runs of two or more spaces (titles that hold single spaces)."""
+    parts: list[str] = []
+    current: list[str] = []
+    spaces = 0
+    for c in line:
+        if c == " ":
+            spaces += 1
+            continue
+        if c == "\t" or spaces >= 2:
+            parts.append("".join(current))
+            current = []
+        elif spaces:
+            current.append(" ")
+        spaces = 0
+        if c != "\t":
+            current.append(c)
+    parts.append("".join(current))
+    return [p.strip() for p in parts if p.strip()]
+
+
+def _ends_with_unit(word: str) -> bool:
+    return word.endswith(("]", ")")) or is_unit_word(word)
+
+
+def _split_titles(line: str, delimiter: str | None, n_columns: int | None = None) -> list[str]:
+    """Split a title line; with white space, keep ``x [mm]``, ``z (nm)`` or ``Height µm`` whole.
+
+    With white space, titles may be separated by tabs or runs of spaces (``Lateral µm  Height
+    microns``), or be words followed by their unit (``Lateral µm Height microns``): the split
+    that gives ``n_columns`` titles is used.
+    """
     if delimiter is not None:
         return _split(line, delimiter)
-    return re.findall(r"[^\s\[(]+(?:\s*[\[(][^\])]*[\])])?|[\[(][^\])]*[\])]", line)
+    words = _title_words(line)
+    if n_columns is None or len(words) == n_columns:
+        return words
+    wide = _wide_split(line)
+    if len(wide) == n_columns:
+        return wide
+    groups: list[str] = []
+    current: list[str] = []
+    for word in words:
+        current.append(word)
+        if _ends_with_unit(word):
+            groups.append(" ".join(current))
+            current = []
+    if current:
+        groups.append(" ".join(current))
+    return groups if len(groups) == n_columns else words
 
 
 def _number(token: str, delimiter: str | None) -> float | None:
@@ -110,15 +301,26 @@ def _number(token: str, delimiter: str | None) -> float | None:
         return None
 
 
+def _overflows(token: str, value: float) -> bool:
+    """A finite number written beyond the float range (``1e400``), as opposed to ``inf``."""
+    return math.isinf(value) and token.strip().lstrip("+-").lower() not in _INF_WORDS
+
+
 def _resolution(token: str) -> float:
     """One unit of the last printed decimal of a number token (``0.0125`` -> 1e-4)."""
-    mantissa, _, exponent = token.strip().lower().lstrip("+-").partition("e")
+    text = token.strip().lower().lstrip("+-").replace(",", ".")
+    mantissa, _, exponent = text.partition("e")
+    if len(exponent) > 6:
+        return 0.0
     try:
         power = int(exponent) if exponent else 0
     except ValueError:
         return 0.0
     decimals = len(mantissa.split(".", 1)[1]) if "." in mantissa else 0
-    return float(10.0 ** (power - decimals))
+    try:
+        return float(10.0 ** (power - decimals))
+    except OverflowError:
+        return 0.0
 
 
 def _is_data_line(tokens: Sequence[str], delimiter: str | None) -> bool:
@@ -155,55 +357,77 @@ class _Table:
     rows: NDArray[np.int64]  # 1-based line number of each row
     columns: list[_Column]
     delimiter: str | None
-    header: list[tuple[int, str]]  # (line number, text) of the header block
-    comments: list[str]
+    header: list[tuple[int, str]]  # (line number, text) of the last header lines (up to 2)
+    n_header: int  # number of header lines
+    stored: str | None  # JSON text of the first metadata comment
     column_resolution: list[float]  # finest printed step of each column (file units; 0: none)
 
 
 def _parse_table(
-    path: Path, lines: Sequence[str], first_line: int = 1, *, delimiter: str | None = None
+    path: Path,
+    lines: Iterable[tuple[int, str]],
+    *,
+    delimiter: str | None = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> _Table:
-    """Parse a header block and rows of numbers. ``first_line`` numbers ``lines[0]``."""
+    """Parse a header block and rows of numbers from ``(line number, text)`` pairs.
+
+    Only the last two header lines and the first metadata comment are kept; rows go into
+    packed arrays and are counted against ``max_points`` as they are read.
+    """
     header: list[tuple[int, str]] = []
-    comments: list[str] = []
-    start = None
-    for k, line in enumerate(lines):
+    n_header = 0
+    stored: str | None = None
+    seen_comment = False
+    first: tuple[int, list[str]] | None = None
+    iterator = iter(lines)
+
+    def comment(text: str) -> None:
+        nonlocal stored
+        if stored is None and text.startswith(METADATA_COMMENT):
+            stored = text[len(METADATA_COMMENT) :]
+
+    for line_no, line in iterator:
         stripped = line.strip()
         if not stripped:
             continue
         if _is_comment(stripped):
-            comments.append(stripped)
+            seen_comment = True
+            comment(stripped)
             continue
         delim = delimiter if delimiter is not None else _delimiter_of(stripped)
-        if _is_data_line(_split(stripped, delim), delim):
-            start = k
+        tokens = _split(stripped, delim)
+        if _is_data_line(tokens, delim):
+            first = (line_no, tokens)
             delimiter = delim
             break
-        header.append((first_line + k, stripped))
-    if start is None:
+        n_header += 1
+        header = [*header[-1:], (line_no, stripped)]
+        if n_header > _MAX_HEADER_LINES:
+            raise NoDataError(
+                f"{path}: no rows of numbers in the first {_MAX_HEADER_LINES:,} header lines; "
+                "not a table of x, z values"
+            )
+    if first is None:
         if header:
             last_no, last = header[-1]
             raise NoDataError(
-                f"{path}: no rows of numbers after {len(header)} header line(s) (last header "
+                f"{path}: no rows of numbers after {n_header} header line(s) (last header "
                 f"line {last_no}: {last[:60]!r}); the file has a header but no data — export "
                 "the scan again with its data"
             )
-        raise EmptyFileError(f"{path}: the file has only comments or blank lines, no data")
+        if seen_comment:
+            raise EmptyFileError(f"{path}: the file has only comments or blank lines, no data")
+        raise EmptyFileError(f"{path}: the file is empty; nothing to read — export the scan again")
 
-    first_tokens = _split(lines[start].strip(), delimiter)
+    start_no, first_tokens = first
     n_columns = len(first_tokens)
-    values: list[list[float]] = []
-    rows: list[int] = []
+    max_values = 3 * max_points
+    values = array.array("d")
+    rows = array.array("q")
     resolution = [0.0] * n_columns
-    start_no = first_line + start
-    for k in range(start, len(lines)):
-        stripped = lines[k].strip()
-        if not stripped or _is_comment(stripped):
-            if stripped:
-                comments.append(stripped)
-            continue
-        line_no = first_line + k
-        tokens = _split(stripped, delimiter)
+
+    def add(line_no: int, stripped: str, tokens: list[str]) -> None:
         if len(tokens) != n_columns:
             other = [d for d in (";", ",", "\t") if d in stripped and d != delimiter]
             if other and (delimiter is not None or other != ["\t"]):
@@ -217,7 +441,13 @@ def _parse_table(
                 f"{path}, line {line_no}: {len(tokens)} column(s) but the data starting on "
                 f"line {start_no} has {n_columns} ({stripped[:60]!r}); fix or remove this row"
             )
-        row: list[float] = []
+        check_points(path, len(rows) + 1, max_points, "the table")
+        if len(values) + n_columns > max_values:
+            raise FileTooLargeError(
+                f"{path}, line {line_no}: {len(rows) + 1:,} rows of {n_columns} numbers exceed "
+                f"{max_values:,} values (3 × max_points); if the table is genuine, pass a "
+                "larger max_points= to read_profile"
+            )
         for c, token in enumerate(tokens):
             value = _number(token, delimiter)
             if value is None:
@@ -226,21 +456,37 @@ def _parse_table(
                     "(undefined points may be written as nan, bad or left empty); fix or "
                     "remove this row"
                 )
-            row.append(value)
-            if value == value and value != 0.0:  # finest printed step of non-zero numbers
-                step = _resolution(token)
+            if _overflows(token, value):
+                raise MalformedRowError(
+                    f"{path}, line {line_no}, column {c + 1}: {token[:40]!r} is beyond the "
+                    "range of floating-point numbers (magnitude above 1.8e308); fix or remove "
+                    "this row"
+                )
+            values.append(value)
+            if value == value and value != 0.0 and not math.isinf(value):
+                step = _resolution(token)  # finest printed step of non-zero numbers
                 resolution[c] = step if resolution[c] == 0.0 else min(resolution[c], step)
-        values.append(row)
         rows.append(line_no)
+
+    add(start_no, "", first_tokens)
+    for line_no, line in iterator:
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if _is_comment(stripped):
+            comment(stripped)
+            continue
+        add(line_no, stripped, _split(stripped, delimiter))
 
     columns = _columns(path, header, n_columns, delimiter)
     return _Table(
-        values=np.asarray(values, dtype=np.float64).reshape(len(values), n_columns),
-        rows=np.asarray(rows, dtype=np.int64),
+        values=np.frombuffer(values, dtype=np.float64).reshape(len(rows), n_columns),
+        rows=np.frombuffer(rows, dtype=np.int64).copy(),
         columns=columns,
         delimiter=delimiter,
         header=header,
-        comments=comments,
+        n_header=n_header,
+        stored=stored,
         column_resolution=resolution,
     )
 
@@ -251,7 +497,7 @@ def _columns(
     """Titles and units of the columns from the last (up to two) header lines that fit."""
     fitting: list[tuple[int, list[str]]] = []
     for line_no, text in reversed(header):
-        titles = _split_titles(text, delimiter)
+        titles = _split_titles(text, delimiter, n_columns)
         if len(titles) != n_columns:
             break
         fitting.insert(0, (line_no, titles))
@@ -264,7 +510,7 @@ def _columns(
             found, raw = unit_in_text(titles[c])
             if raw is not None and raw_unit is None:
                 unit, raw_unit, title_line = found, raw, line_no
-            bare = re.sub(r"[\[(][^\])]*[\])]", "", titles[c]).strip()
+            bare = strip_bracketed(titles[c]).strip()
             if found is not None and raw is not None and bare.endswith(raw):
                 bare = bare[: -len(raw)].rstrip(" /_")
             if bare and not name:
@@ -294,8 +540,9 @@ def _resolve_unit(
     if column is not None and column.raw_unit is not None:
         if column.unit is None:
             raise UnitError(
-                f"{path}, line {column.title_line}: the {what} column's unit {column.raw_unit!r} "
-                f"is not a length unit; use one of {', '.join(UNIT_FACTORS)} in the header"
+                f"{path}, line {column.title_line}: the {what} column's unit "
+                f"{column.raw_unit[:40]!r} is not a length unit; use one of "
+                f"{', '.join(UNIT_FACTORS)} in the header"
             )
         header_unit = column.unit
     given_unit = normalize_unit(given, what=f"{option}=") if given is not None else None
@@ -314,15 +561,12 @@ def _resolve_unit(
     )
 
 
-def _stored_metadata(comments: Sequence[str]) -> dict[str, Any] | None:
-    for comment in comments:
-        if comment.startswith(METADATA_COMMENT):
-            try:
-                loaded = json.loads(comment[len(METADATA_COMMENT) :])
-            except json.JSONDecodeError:
-                return None
-            return loaded if isinstance(loaded, dict) else None
-    return None
+def _stored_metadata(path: Path, text: str | None) -> Mapping[str, Any] | None:
+    if text is None:
+        return None
+    from ._stored import parse_stored_metadata
+
+    return parse_stored_metadata(path, text, where=f"the {METADATA_COMMENT!r} comment")
 
 
 def _table_to_raw(
@@ -333,31 +577,96 @@ def _table_to_raw(
     unit: str | None,
     height_unit: str | None,
     spacing: float | None,
+    line: int | None = None,
     extra: dict[str, Any] | None = None,
+) -> RawProfile:
+    """The raw profile of a parsed table (a value overflowing on unit conversion becomes inf,
+    an undefined point, without a RuntimeWarning)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _table_columns_to_raw(
+            path,
+            table,
+            fmt=fmt,
+            unit=unit,
+            height_unit=height_unit,
+            spacing=spacing,
+            line=line,
+            extra=extra,
+        )
+
+
+def _table_columns_to_raw(
+    path: Path,
+    table: _Table,
+    *,
+    fmt: str,
+    unit: str | None,
+    height_unit: str | None,
+    spacing: float | None,
+    line: int | None,
+    extra: dict[str, Any] | None,
 ) -> RawProfile:
     columns = table.columns
     n_columns = len(columns)
+    n_rows = table.values.shape[0]
     valid_col = _pick(columns, _VALID_NAMES, set())
     invalid_col = _pick(columns, _INVALID_NAMES, set()) if valid_col is None else None
     flag_col = valid_col if valid_col is not None else invalid_col
     used = {flag_col} if flag_col is not None else set()
     data_columns = [c for c in range(n_columns) if c not in used]
+    picked_x = _pick(columns, _X_NAMES, used)
+    matrix = len(data_columns) >= 3 and picked_x is None
 
     metadata: dict[str, Any] = {"source": str(path), "format": fmt}
     if extra:
         metadata.update(extra)
-    if table.header:
-        metadata["header_lines"] = len(table.header)
+    if table.n_header:
+        metadata["header_lines"] = table.n_header
     metadata["delimiter"] = _DELIMITER_NAMES[table.delimiter]
 
-    if len(data_columns) == 1:  # heights only
+    if line is not None and not matrix:
+        raise ReadOptionError(
+            f"{path}: line= is only for areal data (x3p, npy, instrument files, or a text "
+            "matrix of heights); this table is a line scan — drop line="
+        )
+    rows: NDArray[np.int64] | None = table.rows
+    if matrix:
+        if line is None:
+            raise LineSelectionError(
+                f"{path}: {n_rows} rows × {len(data_columns)} columns of numbers and no title "
+                "naming the x column: an areal matrix of heights (e.g. a Gwyddion ASCII "
+                f"export), not a line scan; choose a row with line= (0 … {n_rows - 1}; CLI "
+                "--line) and give spacing= [µm], or export the profile as x, z columns"
+            )
+        if not 0 <= line < n_rows:
+            raise LineSelectionError(
+                f"{path}: line={line} does not exist; the matrix has rows 0 … {n_rows - 1}"
+            )
+        if spacing is None:
+            raise MissingSpacingError(
+                f"{path}: a row of a height matrix has no positions; pass the grid spacing "
+                "spacing= [µm] (CLI --spacing)"
+            )
+        if not (math.isfinite(spacing) and spacing > 0):
+            raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+        z_unit, z_from = _resolve_unit(
+            path, None, height_unit or unit, "heights", "height_unit" if height_unit else "unit"
+        )
+        z = table.values[line, data_columns] * UNIT_FACTORS[z_unit]
+        x = np.arange(z.size, dtype=np.float64) * spacing
+        x_unit, x_from, x_factor, x_resolution = "µm", "argument spacing", 1.0, 0.0
+        metadata.update(matrix=[n_rows, len(data_columns)], line=int(line))
+        metadata["spacing_um"] = float(spacing)
+        rows = None
+        flag_col = None
+    elif len(data_columns) == 1:  # heights only
         z_col = data_columns[0]
         if spacing is None:
             raise MissingSpacingError(
                 f"{path}: one column of heights and no positions; pass the grid spacing "
                 "spacing= [µm] (CLI --spacing)"
             )
-        if not (np.isfinite(spacing) and spacing > 0):
+        if not (math.isfinite(spacing) and spacing > 0):
             raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
         z_unit, z_from = _resolve_unit(
             path,
@@ -366,16 +675,17 @@ def _table_to_raw(
             "heights",
             "height_unit" if height_unit else "unit",
         )
-        x = np.arange(table.values.shape[0], dtype=np.float64) * spacing
+        x = np.arange(n_rows, dtype=np.float64) * spacing
         x_unit, x_from, x_factor, x_resolution = "µm", "argument spacing", 1.0, 0.0
         metadata["spacing_um"] = float(spacing)
+        metadata["z_column"] = columns[z_col].title or f"column {z_col + 1}"
+        z = table.values[:, z_col] * UNIT_FACTORS[z_unit]
     else:
         if spacing is not None:
             raise ReadOptionError(
                 f"{path}: spacing= is only for files with one column of heights, but this "
                 f"file has {len(data_columns)} data columns (x is the first); drop spacing="
             )
-        picked_x = _pick(columns, _X_NAMES, used)
         x_col = data_columns[0] if picked_x is None else picked_x
         picked_z = _pick(columns, _Z_NAMES, used | {x_col})
         z_col = next(c for c in data_columns if c != x_col) if picked_z is None else picked_z
@@ -396,9 +706,9 @@ def _table_to_raw(
         if ignored:
             metadata["ignored_columns"] = ignored
         metadata["x_column"] = columns[x_col].title or f"column {x_col + 1}"
-    metadata["z_column"] = columns[z_col].title or f"column {z_col + 1}"
+        metadata["z_column"] = columns[z_col].title or f"column {z_col + 1}"
+        z = table.values[:, z_col] * UNIT_FACTORS[z_unit]
     z_factor = UNIT_FACTORS[z_unit]
-    z = table.values[:, z_col] * z_factor
 
     n_flagged = 0
     if flag_col is not None:
@@ -417,65 +727,74 @@ def _table_to_raw(
         "x_factor_to_um": x_factor,
         "z_factor_to_um": z_factor,
     }
-    stored = _stored_metadata(table.comments)
+    stored = _stored_metadata(path, table.stored)
     if stored is not None:
         metadata["stored_metadata"] = stored.get("profile_metadata", stored)
-    return RawProfile(x, z, rows=table.rows, x_resolution=x_resolution, metadata=metadata)
-
-
-def _lines_or_empty(path: Path, text: str) -> list[str]:
-    lines = text.splitlines()
-    if not any(line.strip() for line in lines):
-        raise EmptyFileError(f"{path}: the file is empty; nothing to read — export the scan again")
-    return lines
+    return RawProfile(x, z, rows=rows, x_resolution=x_resolution, metadata=metadata)
 
 
 def read_table(
     path: Path,
-    text: str,
     *,
     unit: str | None = None,
     height_unit: str | None = None,
     spacing: float | None = None,
-    fmt: str = "table",
+    line: int | None = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> RawProfile:
-    """Read a text table (x, z[, valid]) or one column of heights.
+    """Read a text table (x, z[, valid]), one column of heights, or a row of a height matrix.
 
     Parameters
     ----------
     path : Path
-        The file (for messages and metadata).
-    text : str
-        Its decoded content.
+        The file.
     unit, height_unit : str, optional
         Units of positions and heights when the header gives none (``height_unit`` defaults
         to ``unit``).
     spacing : float, optional
-        Grid spacing [µm] for a file of heights only.
+        Grid spacing [µm] for a file of heights only (or a row of a matrix).
+    line : int, optional
+        Row of a matrix of heights (three or more untitled columns) to read.
+    max_points : int, optional
+        Largest number of rows accepted [1].
     """
-    lines = _lines_or_empty(path, text)
-    table = _parse_table(path, lines)
-    return _table_to_raw(path, table, fmt=fmt, unit=unit, height_unit=height_unit, spacing=spacing)
+    lines = iter_lines(path)
+    try:
+        table = _parse_table(path, lines, max_points=max_points)
+    finally:
+        lines.close()
+    return _table_to_raw(
+        path, table, fmt="table", unit=unit, height_unit=height_unit, spacing=spacing, line=line
+    )
 
 
-def is_dektak(text: str) -> bool:
-    """Whether a text has the "Scan Data" section of a Bruker Dektak CSV export."""
-    return _scan_data_line(text.splitlines()) is not None
+def _is_scan_data(line: str) -> bool:
+    return line.split(",", 1)[0].strip().lower() == "scan data"
 
 
-def _scan_data_line(lines: Sequence[str]) -> int | None:
-    for k, line in enumerate(lines):
-        if line.split(",", 1)[0].strip().lower() == "scan data":
-            return k
-    return None
+def is_dektak(path: Path) -> bool:
+    """Whether a text file has the "Scan Data" line of a Bruker Dektak CSV export.
+
+    Only the first lines are searched (the parameter block of an export is short).
+    """
+    lines = iter_lines(path)
+    try:
+        for line_no, line in lines:
+            if _is_scan_data(line):
+                return True
+            if line_no >= _DEKTAK_SCAN_LINES:
+                return False
+    finally:
+        lines.close()
+    return False
 
 
 def read_dektak(
     path: Path,
-    text: str,
     *,
     unit: str | None = None,
     height_unit: str | None = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> RawProfile:
     """Read a Bruker Dektak CSV export.
 
@@ -485,17 +804,27 @@ def read_dektak(
     the first other column is the height. The scan parameters are kept in the metadata under
     ``instrument_parameters``.
     """
-    lines = _lines_or_empty(path, text)
-    k = _scan_data_line(lines)
-    if k is None:  # pragma: no cover - callers check is_dektak first
-        raise NoDataError(f"{path}: no 'Scan Data' section; not a Dektak CSV export")
-    parameters: dict[str, str] = {}
-    for line in lines[:k]:
-        parts = [p.strip() for p in line.split(",")]
-        parts = [p for p in parts if p]
-        if len(parts) >= 2 and len(parameters) < 200:
-            parameters.setdefault(parts[0], " ".join(parts[1:]))
-    table = _parse_table(path, lines[k + 1 :], first_line=k + 2, delimiter=",")
+    lines = iter_lines(path)
+    try:
+        parameters: dict[str, str] = {}
+        found = False
+        for line_no, line in lines:
+            if _is_scan_data(line):
+                found = True
+                break
+            if line_no >= _DEKTAK_SCAN_LINES:
+                break
+            parts = [p.strip() for p in line.split(",")]
+            parts = [p for p in parts if p]
+            if len(parts) >= 2 and len(parameters) < 200:
+                parameters.setdefault(parts[0][:200], " ".join(parts[1:])[:200])
+        if not found:
+            raise NoDataError(
+                f"{path}: no 'Scan Data' line; not a Dektak CSV export (try format='table')"
+            )
+        table = _parse_table(path, lines, delimiter=",", max_points=max_points)
+    finally:
+        lines.close()
     return _table_to_raw(
         path,
         table,

@@ -6,7 +6,14 @@ import re
 
 from ._errors import UnitError
 
-__all__ = ["UNIT_FACTORS", "normalize_unit", "unit_in_text"]
+__all__ = [
+    "UNIT_FACTORS",
+    "bracketed",
+    "is_unit_word",
+    "normalize_unit",
+    "strip_bracketed",
+    "unit_in_text",
+]
 
 #: Factor converting one of each unit to µm.
 UNIT_FACTORS: dict[str, float] = {
@@ -56,7 +63,40 @@ _ALIASES: dict[str, str] = {
     "picometre": "pm",
 }
 
-_BRACKETED = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]")
+_OPENERS = "[("
+_CLOSERS = "])"
+
+
+def bracketed(text: str) -> str | None:
+    """Content (stripped) of the first bracketed part ``[...]`` or ``(...)`` of a text.
+
+    One left-to-right scan (linear time): the first opening bracket that has a closing bracket
+    after it, up to that closing bracket.
+    """
+    start = -1
+    for i, c in enumerate(text):
+        if start < 0 and c in _OPENERS:
+            start = i
+        elif start >= 0 and c in _CLOSERS:
+            return text[start + 1 : i].strip()
+    return None
+
+
+def strip_bracketed(text: str) -> str:
+    """The text without its bracketed parts (``x [mm]`` -> ``x ``); linear time."""
+    out: list[str] = []
+    pending: list[str] = []  # an opened bracket whose closing bracket has not come yet
+    for c in text:
+        if pending:
+            if c in _CLOSERS:
+                pending = []
+            else:
+                pending.append(c)
+        elif c in _OPENERS:
+            pending = [c]
+        else:
+            out.append(c)
+    return "".join(out) + "".join(pending)
 
 
 def _lookup(word: str) -> str | None:
@@ -71,6 +111,11 @@ def _lookup(word: str) -> str | None:
     if lowered in ("a",):
         return None
     return _ALIASES.get(lowered)
+
+
+def is_unit_word(word: str) -> bool:
+    """Whether a word is a length unit (``µm``, ``microns``, ``A``...)."""
+    return _lookup(word) is not None
 
 
 def normalize_unit(unit: str, *, what: str = "unit") -> str:
@@ -103,9 +148,8 @@ def unit_in_text(text: str) -> tuple[str | None, str | None]:
         bracketed part that is not a length unit (e.g. ``[1/0]``), ``(None, None)`` when it has
         no unit at all.
     """
-    match = _BRACKETED.search(text)
-    if match:
-        raw = match.group(1)
+    raw = bracketed(text)
+    if raw is not None:
         return _lookup(raw), raw
     stripped = text.strip()
     if "/" in stripped:

@@ -5,25 +5,114 @@ x (and y) axes, z data types ``I`` (uint16), ``L`` (uint32), ``F`` (float32), ``
 the z axis increment (scale) and offset applied when given, the optional ``valid.bin`` mask, and
 the MD5 checksum of the point data when ``main.xml`` gives one. Positions and heights in X3P
 are in metres. Point data are stored with x running fastest, then y.
+
+Untrusted files: ``main.xml`` is refused if it declares a document type or entities (an X3P
+never needs them; entity expansion is how "billion laughs" and external-entity attacks work),
+so no entity is ever expanded and no external resource is ever opened. Sizes are checked before
+anything is decompressed: the zip directory's uncompressed size of every member against what
+``main.xml`` declares and against the limit of points per file, then again while streaming.
+Only the requested row is kept in memory.
 """
 
 from __future__ import annotations
 
 import hashlib
+import math
 import zipfile
+import zlib
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 from xml.etree import ElementTree
+from xml.parsers import expat
 
 import numpy as np
 
 from ..preprocess import RawProfile
-from ._errors import LineSelectionError, X3PError
+from ._errors import CorruptFileError, FileTooLargeError, LineSelectionError, X3PError
+from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
 
-__all__ = ["read_x3p"]
+__all__ = ["DamagedX3PError", "read_x3p"]
 
 _DTYPES = {"I": "<u2", "L": "<u4", "F": "<f4", "D": "<f8"}  # I, L unsigned (openGPS)
 _METRE_TO_UM = 1e6
+_CHUNK = 1 << 20
+#: Errors of the zip and zlib modules on damaged archives (wrapped in DamagedX3PError).
+ZIP_ERRORS = (
+    zipfile.BadZipFile,
+    zipfile.LargeZipFile,
+    zlib.error,
+    EOFError,
+    OSError,
+    NotImplementedError,
+    RuntimeError,
+    ValueError,
+    OverflowError,
+)
+
+
+class DamagedX3PError(X3PError, CorruptFileError):
+    """An X3P archive is damaged: bad zip structure, checksum, compressed stream or sizes."""
+
+
+class _Forbidden(Exception):
+    pass
+
+
+def _refuse(*_args: object) -> None:
+    raise _Forbidden
+
+
+def _refuse_reference(*_args: object) -> int:
+    raise _Forbidden
+
+
+def _parse_xml(path: Path, data: bytes) -> ElementTree.Element:
+    """Parse ``main.xml`` with no entity expansion and no external resource.
+
+    A first pass with a bare expat parser refuses any ``<!DOCTYPE``, entity declaration or
+    external entity reference (its handlers raise before anything is expanded); only then is
+    the document built with :mod:`xml.etree.ElementTree`.
+    """
+    checker = expat.ParserCreate()
+    checker.StartDoctypeDeclHandler = _refuse
+    checker.EntityDeclHandler = _refuse
+    checker.UnparsedEntityDeclHandler = _refuse
+    checker.ExternalEntityRefHandler = _refuse_reference
+    checker.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    try:
+        checker.Parse(data, True)
+    except _Forbidden:
+        raise X3PError(
+            f"{path}: main.xml declares a document type or entities, which X3P files never "
+            "need; refused (entity expansion could exhaust memory or read local files)"
+        ) from None
+    except (expat.ExpatError, ValueError, RecursionError) as exc:
+        raise X3PError(f"{path}: main.xml is not valid XML ({one_line(exc)})") from None
+    try:
+        return ElementTree.fromstring(data)
+    except (ElementTree.ParseError, ValueError, RecursionError) as exc:
+        raise X3PError(f"{path}: main.xml is not valid XML ({one_line(exc)})") from None
+
+
+def _member(path: Path, archive: zipfile.ZipFile, name: str) -> zipfile.ZipInfo:
+    try:
+        return archive.getinfo(name)
+    except KeyError:
+        raise X3PError(f"{path}: main.xml points to {name!r}, which the archive lacks") from None
+
+
+def _read_member(path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo, size: int) -> bytes:
+    """The whole member, whose directory entry must declare ``size`` bytes (checked first)."""
+    if info.file_size != size:
+        raise DamagedX3PError(
+            f"{path}: {info.filename} is {info.file_size:,} bytes but {size:,} were expected; "
+            "the file is damaged"
+        )
+    try:
+        with archive.open(info) as stream:
+            return read_exact(path, stream, size, info.filename)
+    except ZIP_ERRORS as exc:
+        raise DamagedX3PError(f"{path}: {info.filename} cannot be read ({one_line(exc)})") from None
 
 
 def _local(tag: str) -> str:
@@ -47,18 +136,71 @@ def _text(root: ElementTree.Element, *names: str) -> str | None:
 def _float(
     path: Path, root: ElementTree.Element, *names: str, default: float | None = None
 ) -> float:
+    """A finite number from main.xml (``default`` when the element is absent)."""
     text = _text(root, *names)
     if text is None:
         if default is not None:
             return default
         raise X3PError(f"{path}: main.xml has no {'/'.join(names)}; the file is incomplete")
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        raise X3PError(f"{path}: main.xml {'/'.join(names)} = {text!r} is not a number") from None
+        raise X3PError(
+            f"{path}: main.xml {'/'.join(names)} = {text[:40]!r} is not a number"
+        ) from None
+    if not math.isfinite(value):
+        raise X3PError(
+            f"{path}: main.xml {'/'.join(names)} = {text[:40]!r} is not a finite number; the "
+            "file is damaged"
+        )
+    return value
 
 
-def read_x3p(path: Path, *, line: int | None = None) -> RawProfile:
+def _size(path: Path, root: ElementTree.Element, name: str, default: float | None = None) -> int:
+    value = _float(path, root, "Record3", "MatrixDimension", name, default=default)
+    if value < 1 or value != int(value):
+        raise X3PError(
+            f"{path}: main.xml MatrixDimension/{name} = {value!r} is not a positive whole "
+            "number of points; the file is damaged"
+        )
+    return int(value)
+
+
+def _stream_rows(
+    path: Path,
+    stream: IO[bytes],
+    size: int,
+    keep: tuple[int, int],
+    md5: Any,
+    what: str,
+) -> bytes:
+    """Read a member of ``size`` bytes in chunks, hash all of it, keep bytes ``keep[0]:keep[1]``."""
+    kept = bytearray()
+    pos = 0
+    while pos < size:
+        chunk = stream.read(min(_CHUNK, size - pos))
+        if not chunk:
+            raise DamagedX3PError(
+                f"{path}: {what} ends after {pos:,} bytes but {size:,} were declared; the file "
+                "is truncated or damaged"
+            )
+        if md5 is not None:
+            md5.update(chunk)
+        lo, hi = max(keep[0], pos), min(keep[1], pos + len(chunk))
+        if lo < hi:
+            kept += chunk[lo - pos : hi - pos]
+        pos += len(chunk)
+    if stream.read(1):
+        raise DamagedX3PError(
+            f"{path}: {what} holds more than the {size:,} bytes its directory entry declares; "
+            "the file is damaged or forged"
+        )
+    return bytes(kept)
+
+
+def read_x3p(
+    path: Path, *, line: int | None = None, max_points: int = DEFAULT_MAX_POINTS
+) -> RawProfile:
     """Read a profile, or row ``line`` of areal data, from an X3P file.
 
     Parameters
@@ -68,83 +210,103 @@ def read_x3p(path: Path, *, line: int | None = None) -> RawProfile:
     line : int, optional
         For areal data (``SUR``): index of the row (constant y, 0-based) to read. Required for
         areal data; for a profile it must be ``None`` or ``0``.
+    max_points : int, optional
+        Largest number of points (SizeX × SizeY × SizeZ) accepted [1].
+
+    Raises
+    ------
+    X3PError
+        The file is not a readable X3P (``DamagedX3PError`` if it is damaged).
+    FileTooLargeError
+        ``main.xml`` declares more than ``max_points`` points, or is itself too large.
     """
-    try:
-        archive = zipfile.ZipFile(path)
-    except zipfile.BadZipFile as exc:
-        raise X3PError(f"{path}: not a valid X3P file (not a zip archive: {exc})") from None
-    with archive:
-        names = archive.namelist()
-        if "main.xml" not in names:
-            raise X3PError(
-                f"{path}: the archive has no main.xml (it holds {', '.join(names[:5])}); "
-                "not an X3P file"
-            )
+    with open(path, "rb") as handle:  # OSError (missing, unreadable) propagates as such
         try:
-            root = ElementTree.fromstring(archive.read("main.xml"))
-        except ElementTree.ParseError as exc:
-            raise X3PError(f"{path}: main.xml is not valid XML ({exc})") from None
-        feature = _text(root, "Record1", "FeatureType")
-        if feature not in ("PRF", "SUR"):
+            archive = zipfile.ZipFile(handle)
+        except zipfile.BadZipFile as exc:
             raise X3PError(
-                f"{path}: feature type {feature!r} is not supported; only PRF (profile) and "
-                "SUR (areal surface) can be read"
-            )
-        axes = {}
-        for axis in ("CX", "CY", "CZ"):
-            axes[axis] = {
-                "type": _text(root, "Record1", "Axes", axis, "AxisType"),
-                "data_type": _text(root, "Record1", "Axes", axis, "DataType"),
-            }
-        for axis in ("CX", "CY"):
-            if axes[axis]["type"] not in (None, "I"):
-                raise X3PError(
-                    f"{path}: axis {axis} has type {axes[axis]['type']!r} (absolute "
-                    "coordinates); only incremental (I) lateral axes are supported"
-                )
-        dx = _float(path, root, "Record1", "Axes", "CX", "Increment")
-        x_offset = _float(path, root, "Record1", "Axes", "CX", "Offset", default=0.0)
-        z_type = axes["CZ"]["data_type"]
-        if z_type not in _DTYPES:
-            raise X3PError(f"{path}: z data type {z_type!r} is not one of I, L, F, D")
-        z_increment = _float(path, root, "Record1", "Axes", "CZ", "Increment", default=1.0)
-        z_offset = _float(path, root, "Record1", "Axes", "CZ", "Offset", default=0.0)
-        size_x = int(_float(path, root, "Record3", "MatrixDimension", "SizeX"))
-        size_y = int(_float(path, root, "Record3", "MatrixDimension", "SizeY"))
-        size_z = int(_float(path, root, "Record3", "MatrixDimension", "SizeZ", default=1.0))
-        link = _text(root, "Record3", "DataLink", "PointDataLink")
-        if link is None:
-            raise X3PError(
-                f"{path}: the point data are inline (DataList), which is not supported; export "
-                "with binary point data (bindata/data.bin)"
-            )
-        if link not in names:
-            raise X3PError(f"{path}: main.xml points to {link!r}, which the archive lacks")
-        data = archive.read(link)
-        checksum = _text(root, "Record3", "DataLink", "MD5ChecksumPointData")
-        if checksum and hashlib.md5(data).hexdigest().lower() != checksum.lower():
-            raise X3PError(
-                f"{path}: the MD5 checksum of {link} does not match main.xml; the file is damaged"
-            )
-        valid_link = _text(root, "Record3", "ValidPntsLink")
-        valid_bytes = archive.read(valid_link) if valid_link and valid_link in names else None
+                f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})"
+            ) from None
+        except ZIP_ERRORS as exc:
+            raise DamagedX3PError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
+        with archive:
+            return _read_archive(path, archive, line=line, max_points=max_points)
 
-    n = size_x * size_y * size_z
-    dtype = np.dtype(_DTYPES[z_type])
-    if len(data) != n * dtype.itemsize:
-        raise X3PError(
-            f"{path}: {link} has {len(data)} bytes but {size_x}×{size_y}×{size_z} points of "
-            f"type {z_type} need {n * dtype.itemsize}; the file is damaged"
+
+def _read_archive(
+    path: Path, archive: zipfile.ZipFile, *, line: int | None, max_points: int
+) -> RawProfile:
+    names = archive.namelist()
+    if "main.xml" not in names:
+        shown = ", ".join(repr(n[:60]) for n in names[:5])
+        raise X3PError(f"{path}: the archive has no main.xml (it holds {shown}); not an X3P file")
+    info = archive.getinfo("main.xml")
+    if info.file_size > MAX_XML_BYTES:
+        raise FileTooLargeError(
+            f"{path}: main.xml declares {info.file_size:,} bytes uncompressed, more than the "
+            f"{MAX_XML_BYTES:,} bytes an X3P description can need; the file is damaged or forged"
         )
-    values = np.frombuffer(data, dtype=dtype).astype(np.float64)
-    values = values * z_increment + z_offset  # increment 1 and offset 0 when absent
-    grid = values.reshape(size_z * size_y, size_x)  # x runs fastest
-    valid = None
-    if valid_bytes is not None:
-        bits = np.unpackbits(np.frombuffer(valid_bytes, dtype=np.uint8), bitorder="little")
-        valid = bits[:n].astype(bool).reshape(size_z * size_y, size_x)
+    root = _parse_xml(path, _read_member(path, archive, info, info.file_size))
+    feature = _text(root, "Record1", "FeatureType")
+    if feature not in ("PRF", "SUR"):
+        feature_shown = feature if feature is None else feature[:40]
+        raise X3PError(
+            f"{path}: feature type {feature_shown!r} is not supported; only PRF (profile) and "
+            "SUR (areal surface) can be read"
+        )
+    axes = {}
+    for axis in ("CX", "CY", "CZ"):
+        axes[axis] = {
+            "type": _text(root, "Record1", "Axes", axis, "AxisType"),
+            "data_type": _text(root, "Record1", "Axes", axis, "DataType"),
+        }
+    for axis in ("CX", "CY"):
+        if axes[axis]["type"] not in (None, "I"):
+            raise X3PError(
+                f"{path}: axis {axis} has type {str(axes[axis]['type'])[:40]!r} (absolute "
+                "coordinates); only incremental (I) lateral axes are supported"
+            )
+    dx = _float(path, root, "Record1", "Axes", "CX", "Increment")
+    if not dx * _METRE_TO_UM >= np.finfo(np.float64).tiny:
+        raise X3PError(
+            f"{path}: the x increment {dx!r} m is not a positive spacing that floating point "
+            "can represent; the file is damaged"
+        )
+    x_offset = _float(path, root, "Record1", "Axes", "CX", "Offset", default=0.0)
+    z_type = axes["CZ"]["data_type"]
+    if z_type not in _DTYPES:
+        type_shown = z_type if z_type is None else z_type[:40]
+        raise X3PError(f"{path}: z data type {type_shown!r} is not one of I, L, F, D")
+    z_increment = _float(path, root, "Record1", "Axes", "CZ", "Increment", default=1.0)
+    z_offset = _float(path, root, "Record1", "Axes", "CZ", "Offset", default=0.0)
+    size_x = _size(path, root, "SizeX")
+    size_y = _size(path, root, "SizeY")
+    size_z = _size(path, root, "SizeZ", default=1.0)
+    n = size_x * size_y * size_z
+    check_points(path, n, max_points, f"main.xml's matrix ({size_x} × {size_y} × {size_z})")
+    link = _text(root, "Record3", "DataLink", "PointDataLink")
+    if link is None:
+        raise X3PError(
+            f"{path}: the point data are inline (DataList), which is not supported; export "
+            "with binary point data (bindata/data.bin)"
+        )
+    data_info = _member(path, archive, link)
+    dtype = np.dtype(_DTYPES[z_type])
+    if data_info.file_size != n * dtype.itemsize:
+        raise DamagedX3PError(
+            f"{path}: {link} has {data_info.file_size:,} bytes but {size_x}×{size_y}×{size_z} "
+            f"points of type {z_type} need {n * dtype.itemsize:,}; the file is damaged"
+        )
+    valid_link = _text(root, "Record3", "ValidPntsLink")
+    valid_info = _member(path, archive, valid_link) if valid_link else None
+    n_valid_bytes = (n + 7) // 8
+    if valid_info is not None and not n_valid_bytes <= valid_info.file_size <= n_valid_bytes + 8:
+        raise DamagedX3PError(
+            f"{path}: {valid_link} has {valid_info.file_size:,} bytes but {n:,} points need "
+            f"{n_valid_bytes:,} bytes of validity bits; the file is damaged"
+        )
 
-    n_lines = grid.shape[0]
+    n_lines = size_y * size_z
     if feature == "PRF" or n_lines == 1:
         if line not in (None, 0):
             raise LineSelectionError(
@@ -162,9 +324,42 @@ def read_x3p(path: Path, *, line: int | None = None) -> RawProfile:
                 f"{path}: line={line} does not exist; the areal data have rows 0 … {n_lines - 1}"
             )
         row = line
-    z = grid[row] * _METRE_TO_UM
-    if valid is not None:
-        z = np.where(valid[row], z, np.nan)
+
+    checksum = _text(root, "Record3", "DataLink", "MD5ChecksumPointData")
+    md5 = hashlib.md5(usedforsecurity=False) if checksum else None
+    row_bytes = size_x * dtype.itemsize
+    try:
+        with archive.open(data_info) as stream:
+            data = _stream_rows(
+                path,
+                stream,
+                n * dtype.itemsize,
+                (row * row_bytes, (row + 1) * row_bytes),
+                md5,
+                link,
+            )
+        valid_bytes = (
+            _read_member(path, archive, valid_info, valid_info.file_size)
+            if valid_info is not None
+            else None
+        )
+    except ZIP_ERRORS as exc:
+        raise DamagedX3PError(f"{path}: {link} cannot be read ({one_line(exc)})") from None
+    if md5 is not None and md5.hexdigest().lower() != str(checksum).lower():
+        raise DamagedX3PError(
+            f"{path}: the MD5 checksum of {link} does not match main.xml; the file is damaged"
+        )
+    with np.errstate(over="ignore", invalid="ignore"):
+        z = (np.frombuffer(data, dtype=dtype).astype(np.float64) * z_increment + z_offset) * (
+            _METRE_TO_UM
+        )
+    valid = None
+    if valid_bytes is not None:
+        first = row * size_x
+        chunk = np.frombuffer(valid_bytes[first // 8 : (first + size_x + 7) // 8 + 1], np.uint8)
+        bits = np.unpackbits(chunk, bitorder="little")
+        valid = bits[first % 8 : first % 8 + size_x].astype(bool)
+        z = np.where(valid, z, np.nan)
     x = (x_offset + dx * np.arange(size_x)) * _METRE_TO_UM
     dy = _float(path, root, "Record1", "Axes", "CY", "Increment", default=0.0)
     y_offset = _float(path, root, "Record1", "Axes", "CY", "Offset", default=0.0)
@@ -183,7 +378,7 @@ def read_x3p(path: Path, *, line: int | None = None) -> RawProfile:
             "z_factor_to_um": _METRE_TO_UM,
         },
         "z_data_type": z_type,
-        "n_flagged_invalid": int((~valid[row]).sum()) if valid is not None else 0,
+        "n_flagged_invalid": int((~valid).sum()) if valid is not None else 0,
     }
     if feature == "SUR":
         metadata["line"] = row
@@ -192,5 +387,5 @@ def read_x3p(path: Path, *, line: int | None = None) -> RawProfile:
         key: _text(root, "Record2", "Instrument", key)
         for key in ("Manufacturer", "Model", "Serial", "Version")
     }
-    metadata["instrument"] = {k: v for k, v in instrument.items() if v}
+    metadata["instrument"] = {k: v[:200] for k, v in instrument.items() if v}
     return RawProfile(x, z, x_resolution=0.0, metadata=metadata)
