@@ -798,6 +798,19 @@ def _init_worker(parent: int) -> None:
     threading.Thread(target=watch, name="splinecontact-parent-watchdog", daemon=True).start()
 
 
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Ignore SIGINT in this block (processes started here inherit it); main thread only."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _run_pool(
     tasks: Sequence[BatchTask], func: RealizationFunction | None, workers: int
 ) -> Iterator[BatchResult | _Lost]:
@@ -807,9 +820,12 @@ def _run_pool(
     )
     finished = False
     try:
-        pending: dict[Future[BatchResult], BatchTask] = {
-            pool.submit(run_batch, task, func): task for task in tasks
-        }
+        # The workers are started by submit(): started with Ctrl-C ignored, a worker still
+        # importing when Ctrl-C comes prints no traceback (the main process handles it).
+        with _sigint_ignored():
+            pending: dict[Future[BatchResult], BatchTask] = {
+                pool.submit(run_batch, task, func): task for task in tasks
+            }
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
