@@ -606,3 +606,47 @@ def test_cli_export_follows_the_output_rule(sandbox: Path) -> None:
     assert sorted(p.name for p in sandbox.iterdir()) == sorted(
         ["small.csv", "study.toml", "mydata", "s.zarr"]
     )
+
+
+def test_export_removes_the_temporary_file_of_a_killed_export(
+    store: Path, tmp_path: Path, h5py: Any
+) -> None:
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    left = tmp_path / f".out.tmp-{dead.pid}-0123abcd.nc"  # what kill -9 during a write leaves
+    left.write_bytes(b"partial")
+    live = tmp_path / f".out.tmp-{os.getppid()}-0123abcd.nc"  # a live process's: kept
+    live.write_bytes(b"busy")
+    export_netcdf(store, tmp_path / "out.nc")
+    assert not left.exists()
+    assert live.read_bytes() == b"busy"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("delay", [0.0, 0.5, 1.0, 1.5, 2.0, 3.0])
+def test_killed_export_leaves_the_earlier_file_or_none(
+    store: Path, tmp_path: Path, h5py: Any, delay: float
+) -> None:
+    import signal
+    import time
+
+    target = tmp_path / "out.nc"
+    export_netcdf(store, target)
+    good = target.read_bytes()
+    proc = subprocess.Popen(
+        [CLI, "study", "export", str(store), "--netcdf", str(target), "--overwrite"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    time.sleep(delay)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    exported = target.read_bytes()
+    assert exported == good or _exported(target, "status") == _exported_bytes(good)
+
+
+def _exported_bytes(data: bytes) -> bytes:
+    import xarray as xr
+
+    with xr.open_dataset(io.BytesIO(data), engine="h5netcdf") as ds:
+        return bytes(ds["status"].values.tobytes())

@@ -1411,6 +1411,20 @@ def _write_bytes(path: Path, data: memoryview) -> None:
         os.fsync(file.fileno())
 
 
+def _remove_dead_temporaries(target: Path) -> None:
+    """Remove temporary files of earlier exports to ``target`` whose process is gone (kill -9)."""
+    for tmp in target.parent.glob(f".{target.stem}.tmp-*-*{target.suffix}"):
+        pid_text = tmp.name.removeprefix(f".{target.stem}.tmp-").split("-", 1)[0]
+        if not pid_text.isdigit() or int(pid_text) == os.getpid() or not tmp.is_file():
+            continue
+        try:
+            os.kill(int(pid_text), 0)
+        except ProcessLookupError:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            continue
+
+
 def export_netcdf(store: str | Path, target: str | Path, *, overwrite: bool = False) -> Path:
     """Write a study store as one netCDF-4 file (h5netcdf engine) and return its path.
 
@@ -1454,6 +1468,7 @@ def export_netcdf(store: str | Path, target: str | Path, *, overwrite: bool = Fa
             f"cannot write {target}: netCDF-4 writing needs h5py ({exc}); install it with "
             "`pip install h5py`"
         ) from None
+    _remove_dead_temporaries(target)
     try:
         with atomic_path(target) as tmp:
             _write_bytes(tmp, data)
