@@ -650,3 +650,56 @@ def _exported_bytes(data: bytes) -> bytes:
 
     with xr.open_dataset(io.BytesIO(data), engine="h5netcdf") as ds:
         return bytes(ds["status"].values.tobytes())
+
+
+def die_at_realization_one(parameters: Mapping[str, Any], seed: np.random.SeedSequence) -> Any:
+    """Kill the worker process (SIGKILL) at realization 1, the first time only."""
+    import signal
+
+    marker = Path(os.environ["SPLINECONTACT_TEST_DIE_ONCE"])
+    if seed.spawn_key == (1,) and not marker.exists():
+        marker.touch()
+        os.kill(os.getpid(), signal.SIGKILL)
+    return fake_realization(parameters, seed)
+
+
+@pytest.mark.slow
+def test_lost_batches_carry_the_summary_and_reach_the_callback(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("SPLINECONTACT_TEST_DIE_ONCE", str(tmp_path / "died"))
+    events: list[StudyProgress] = []
+    with pytest.raises(study.StudyExecutionError) as info:
+        run_study(
+            SMALL,
+            tmp_path / "s.zarr",
+            workers=2,
+            batch_size=1,
+            progress=events.append,
+            realization_function=die_at_realization_one,
+        )
+    summary = info.value.summary
+    assert summary is not None and summary.not_run > 0 and summary.lost
+    assert events[-1].summary == summary
+
+
+@pytest.mark.slow
+def test_two_first_runs_started_together_do_not_fail_on_each_other(tmp_path: Path) -> None:
+    (tmp_path / "study.toml").write_text(TOML, encoding="utf-8")
+    args = [CLI, "study", "run", "study.toml", "-o", "s.zarr", "-q", "--workers", "1"]
+    for attempt in range(3):
+        out = tmp_path / "s.zarr"
+        shutil.rmtree(out, ignore_errors=True)
+        procs = [
+            subprocess.Popen(args, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+            for _ in range(2)
+        ]
+        results = [(p.wait(timeout=300), p.stderr.read() if p.stderr else "") for p in procs]
+        for code, err in results:
+            assert "Errno" not in err and "Traceback" not in err, (attempt, err)
+            if code != 0:
+                assert code == 1 and len(err.strip().splitlines()) == 1, err
+                assert "another running study" in err, err
+        assert any(code == 0 for code, _ in results)
+        assert [p.name for p in tmp_path.iterdir() if ".creating-" in p.name] == []
+        assert (open_study(out)["status"].values != 0).all()
