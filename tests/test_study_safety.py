@@ -581,6 +581,20 @@ def test_cli_refusals_are_one_line_and_write_nothing(sandbox: Path) -> None:
         (["study", "run", "study.toml", "-o", "s.zarr", "--scheduler", "foo://bar"], "scheduler"),
         (["study", "run", "study.toml", "-o", "s.zarr", "--scheduler", ""], "scheduler"),
         (["study", "run", "study.toml", "-o", "s.zarr", "--limit", "steps=x"], "--limit"),
+        (
+            [
+                "study",
+                "run",
+                "study.toml",
+                "-o",
+                "s.zarr",
+                "--scheduler",
+                "tcp://h:1",
+                "--workers",
+                "2",
+            ],
+            "give one of them",
+        ),
     ]
     for args, expected in cases:
         assert expected in _one_error_line(_cli(args, sandbox)), args

@@ -29,6 +29,13 @@ run or failed); ``status`` int8 (0 not run, 1 ok, 2 failed); ``error`` (message,
 left at the engine default ``None``, e.g. ``g_star``, are absent), ``study_toml``,
 ``study_seed``, ``splinecontact_version``, ``engine_fingerprint``, ``started``, ``finished``.
 
+Safety: :func:`run_study` prints nothing (progress goes to an optional callback, e.g.
+:class:`StudyProgressBar`); the study is validated and checked against :class:`StudyLimits`
+before anything is written; ``overwrite`` discards only a recognisable study store of another
+study (never another folder, the current directory, its parents, home or root, nor a store
+another run holds); an existing store is checked chunk by chunk before a run continues it, and
+damage is reported as :class:`~splinecontact.errors.StudyStoreError` naming it.
+
 Testing hook: :func:`run_study` takes ``realization_function`` (default
 :func:`simulate_realization`), any picklable module-level callable
 ``(parameters, seed) -> result`` with ``.curves`` and ``.scalars`` mappings. The tests use it to

@@ -71,6 +71,11 @@ def run(
     from ..config import StudyLimits
     from ..study import StudyExecutionError, StudyProgressBar, print_summary, run_study
 
+    if scheduler is not None and workers is not None:
+        raise fail(
+            "--workers sets the local worker processes, --scheduler sends the work to a Dask "
+            "cluster's workers instead; give one of them"
+        )
     limits = StudyLimits.parse(limit or [])
     bar = None if quiet else StudyProgressBar()
     try:
