@@ -81,12 +81,20 @@ def tree_hash(root: Path) -> dict[str, str]:
     return items
 
 
-@pytest.fixture
-def store(tmp_path: Path) -> Path:
-    """A finished small study store (fake engine)."""
-    out = tmp_path / "small.zarr"
+@pytest.fixture(scope="module")
+def pristine(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A finished small study store (fake engine), made once."""
+    out = tmp_path_factory.mktemp("pristine") / "small.zarr"
     summary = run(SMALL, out)
     assert summary.complete and summary.ok == 6
+    return out
+
+
+@pytest.fixture
+def store(pristine: Path, tmp_path: Path) -> Path:
+    """A copy of the finished small study store, for this test alone."""
+    out = tmp_path / "small.zarr"
+    shutil.copytree(pristine, out)
     return out
 
 
