@@ -739,7 +739,15 @@ class _Writer:
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.group, self.arrays = _open_arrays(path, "r+")
+        # Read-only until something is written: a run with nothing to do works on a read-only
+        # store and changes nothing.
+        self.group, self.arrays = _open_arrays(path, "r")
+        self._writable = False
+
+    def _make_writable(self) -> None:
+        if not self._writable:
+            self.group, self.arrays = _open_arrays(self.path, "r+")
+            self._writable = True
 
     def status(self) -> NDArray[np.int8]:
         try:
@@ -754,6 +762,7 @@ class _Writer:
         return status.astype(np.int8)
 
     def write(self, result: BatchResult) -> None:
+        self._make_writable()
         task = result.task
         region = (*task.grid_index, slice(task.start, task.stop))
         for name in STEP_VARIABLES:
@@ -767,6 +776,7 @@ class _Writer:
         return bool(self.group.attrs.get("finished"))
 
     def finish(self) -> None:
+        self._make_writable()
         self.group.attrs.update({"finished": _now()})
 
 
