@@ -9,7 +9,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.config import PARAMETERS, StudyConfig, load_study, parse_study
+from splinecontact.config import (
+    PARAMETERS,
+    StudyConfig,
+    format_toml_value,
+    load_study,
+    parse_study,
+)
 from splinecontact.errors import StudyConfigError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -192,3 +198,77 @@ def test_resolved_toml_round_trips_exactly(
     again = parse_study(tomllib.loads(cfg.to_toml()))
     assert again.identity() == cfg.identity()
     assert again.to_toml() == cfg.to_toml()
+
+
+FLOATS = [
+    name
+    for name, spec in PARAMETERS.items()
+    if isinstance(spec.default, float) or name in ("dimension", "g_star", "final_displacement")
+]
+
+
+@pytest.mark.parametrize("name", FLOATS)
+@pytest.mark.parametrize("value", [float("inf"), float("-inf"), float("nan")])
+def test_inf_and_nan_are_refused_for_every_number(name: str, value: float) -> None:
+    fixed = {"dimension": 1.5, name: value}
+    message = error_of(study(fixed=fixed))
+    assert message.startswith(f"fixed.{name} = {format_toml_value(value)}: must be a finite")
+    sweep = {"dimension": [1.5]} if name != "dimension" else {}
+    swept = error_of(study(sweep={**sweep, name: [1.5, value]}))
+    assert swept.startswith(f"sweep.{name}[1] = {format_toml_value(value)}: must be a finite")
+
+
+def test_the_study_file_inf_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "inf.toml"
+    path.write_text(
+        '[study]\nname = "t"\nseed = 1\nrealizations = 2\n[fixed]\ndimension = 1.5\ne_star = inf\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(StudyConfigError, match=r"fixed\.e_star = inf: must be a finite number"):
+        load_study(path)
+
+
+@pytest.mark.parametrize(
+    ("seed", "expected"),
+    [
+        (-1, "must be ≥ 0"),
+        (2**63, "must be <"),
+        (1.5, "must be an integer"),
+        (True, "must be an integer"),
+        ("abc", "must be an integer"),
+    ],
+)
+def test_bad_seeds_are_refused(seed: object, expected: str) -> None:
+    message = error_of({"study": {"name": "t", "seed": seed, "realizations": 2}})
+    assert message.startswith("study.seed = ")
+    assert expected in message
+
+
+@pytest.mark.parametrize(
+    ("fixed", "sweep"),
+    [({"n_max": 2000}, {}), ({}, {"n_max": [5, 2000]}), ({"n_max": 100}, {"gamma": [1.5, 1e10]})],
+)
+def test_a_highest_frequency_beyond_float_range_is_refused(
+    fixed: dict[str, object], sweep: dict[str, object]
+) -> None:
+    message = error_of(study(fixed={"dimension": 1.5, **fixed}, sweep=sweep))
+    assert "n_max" in message and "overflows a float" in message
+
+
+def test_deeply_nested_arrays_are_one_line(tmp_path: Path) -> None:
+    path = tmp_path / "deep.toml"
+    path.write_text(
+        '[study]\nname = "t"\nseed = 1\nrealizations = 2\n[sweep]\nra = '
+        + "[" * 5000
+        + "]" * 5000
+        + "\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(StudyConfigError, match="nested too deeply"):
+        load_study(path)
+    nested: list[object] = [1.0]
+    for _ in range(5000):
+        nested = [nested]
+    with pytest.raises(StudyConfigError) as info:
+        parse_study(study(fixed={"dimension": 1.5}, sweep={"ra": nested}), source="x.toml")
+    assert "\n" not in str(info.value)

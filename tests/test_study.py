@@ -189,6 +189,7 @@ def test_two_workers_and_batch_sizes_give_identical_store(reference: Path, tmp_p
     assert_identical_stores(reference, out)
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_identical_store(reference: Path, tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(
@@ -320,6 +321,7 @@ def _done(store: Path) -> int:
         return 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("workers", [1, 2])
 def test_sigkill_midway_then_resume_equals_uninterrupted_run(tmp_path: Path, workers: int) -> None:
     """kill -9 of the main process (alone, or with its pool), then resume with another count."""
@@ -367,6 +369,7 @@ def die_once(parameters: Mapping[str, Any], seed: np.random.SeedSequence) -> Any
     return simulate_realization(parameters, seed)
 
 
+@pytest.mark.slow
 def test_killed_worker_loses_nothing_and_rerun_completes(
     reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

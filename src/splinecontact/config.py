@@ -51,6 +51,8 @@ __all__ = [
     "PARAMETERS",
     "ParameterSpec",
     "StudyConfig",
+    "StudyLimits",
+    "check_limits",
     "format_toml_value",
     "load_study",
     "parse_study",
@@ -58,8 +60,12 @@ __all__ = [
 
 _STRICT = ConfigDict(extra="forbid", strict=True, frozen=True)
 
-Positive = Annotated[float, Field(gt=0.0)]
-NonNegative = Annotated[float, Field(ge=0.0)]
+#: Largest n_max · log10(γ): the highest frequency of eq. 1 is γ^n_max times the lowest.
+_MAX_FREQUENCY_DECADES = 300
+
+#: Floats are finite: ``inf`` and ``nan`` (valid TOML) are refused, as by the API.
+Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
 
 
 @dataclass(frozen=True)
@@ -88,7 +94,10 @@ class ParameterSpec:
 #: The simulation parameters of one realization, by name (the names are the study schema).
 PARAMETERS: dict[str, ParameterSpec] = {
     "dimension": ParameterSpec(
-        Annotated[float, Field(ge=1.0, le=2.0)], None, "1", "fractal dimension D (eq. 1); required"
+        Annotated[float, Field(ge=1.0, le=2.0, allow_inf_nan=False)],
+        None,
+        "1",
+        "fractal dimension D (eq. 1); required",
     ),
     "contact_type": ParameterSpec(
         Literal["rough-on-rough", "rough-on-flat"],
@@ -117,7 +126,10 @@ PARAMETERS: dict[str, ParameterSpec] = {
     "length": ParameterSpec(Positive, 100.0, "µm", "profile length L (eq. 1)"),
     "wavelength": ParameterSpec(Positive, 1.0, "µm", "longest wavelength parameter (eq. 1)"),
     "gamma": ParameterSpec(
-        Annotated[float, Field(gt=1.0)], 1.5, "1", "frequency density γ (eq. 1)"
+        Annotated[float, Field(gt=1.0, allow_inf_nan=False)],
+        1.5,
+        "1",
+        "frequency density γ (eq. 1)",
     ),
     "directions": ParameterSpec(
         Annotated[int, Field(ge=1)], 20, "1", "number of ridge directions M (eq. 1)"
@@ -222,7 +234,28 @@ class StudyConfig(BaseModel):
             raise ValueError(
                 "fixed.dimension: required; give the fractal dimension in [fixed] or [sweep]"
             )
+        self._check_frequencies()
         return self
+
+    def _check_frequencies(self) -> None:
+        """γ^n_max (the highest frequency of eq. 1, relative to the lowest) must be a float."""
+        gammas = self._values("gamma")
+        n_maxes = self._values("n_max")
+        gamma, n_max = max(gammas), max(n_maxes)
+        if n_max * math.log10(gamma) > _MAX_FREQUENCY_DECADES:
+            where_n = "sweep.n_max" if "n_max" in self._swept_names_unordered() else "fixed.n_max"
+            raise ValueError(
+                f"{where_n} = {n_max} with gamma = {gamma!r}: the highest frequency γ^n_max = "
+                f"10^{n_max * math.log10(gamma):.0f} × the lowest overflows a float; keep "
+                f"n_max · log10(γ) ≤ {_MAX_FREQUENCY_DECADES}"
+            )
+
+    def _values(self, name: str) -> list[Any]:
+        swept = getattr(self.sweep, name)
+        if swept is not None:
+            return list(swept)
+        value = getattr(self.fixed, name)
+        return [PARAMETERS[name].default if value is None else value]
 
     def _swept_names_unordered(self) -> list[str]:
         return [k for k in PARAMETERS if getattr(self.sweep, k) is not None]
@@ -377,6 +410,8 @@ def _reason(error: Mapping[str, Any]) -> str:
         return "must be an integer (write 1_000_000, not 1e6)"
     if kind == "float_type":
         return "must be a number"
+    if kind == "finite_number":
+        return "must be a finite number (inf and nan are not parameter values)"
     if kind == "string_type":
         return "must be a string"
     if kind == "literal_error":
@@ -423,9 +458,16 @@ def parse_study(data: Mapping[str, Any], *, source: str = "<mapping>") -> StudyC
     """
     try:
         return StudyConfig.model_validate(dict(data))
+    except RecursionError:
+        raise StudyConfigError(
+            f"study file {source}: not a study (arrays or tables nested too deeply)"
+        ) from None
     except ValidationError as exc:
         errors = exc.errors()
-        first = _format_error(errors[0])
+        try:
+            first = _format_error(errors[0])
+        except RecursionError:
+            first = f"{_key_path(errors[0]['loc'])}: nested too deeply; must be a value"
         more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
         raise StudyConfigError(f"study file {source}: {first}{more}") from None
 
@@ -449,4 +491,122 @@ def load_study(path: str | Path) -> StudyConfig:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise StudyConfigError(f"study file {path}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise StudyConfigError(
+            f"study file {path}: not a study file (arrays or tables nested too deeply)"
+        ) from None
     return parse_study(data, source=str(path))
+
+
+# --- ceilings -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class StudyLimits:
+    """Ceilings on the size of a study, checked before anything is allocated or written.
+
+    A valid study file can still describe a run that would exhaust memory or disk, or run for
+    months. :func:`check_limits` refuses such a study with one line that names the ceiling and
+    how to raise it (``--limit NAME=VALUE`` on the command line, ``limits=StudyLimits(...)`` in
+    Python). The defaults are far above the paper's study (4000 realizations of 10⁶ points and
+    1000 steps).
+
+    Attributes
+    ----------
+    steps : int
+        Most displacement increments of one simulation [1] (default 10⁶).
+    points_terms : int
+        Most ``n_points × directions × (n_max + 1)`` of one generated profile [1]: the
+        generator's work, one cosine per point and term (default 10¹⁰; the paper: 4.2·10⁸).
+    grid_points : int
+        Most points of the sweep grid (the product of the swept lists' lengths) [1]
+        (default 10⁴).
+    realizations : int
+        Most realizations in the whole study, ``realizations × grid points`` [1] (default 10⁶).
+    realization_points : int
+        Most profile points simulated in the whole study, ``realizations × grid points ×
+        n_points`` [1] (default 10¹¹; the paper: 4·10⁹).
+    stored_values : int
+        Most values of one per-step variable in the store, ``realizations × grid points ×
+        (steps + 1)`` [1] (default 10⁸, 800 MB per variable in memory; the paper: 4·10⁶).
+    """
+
+    steps: int = 1_000_000
+    points_terms: int = 10**10
+    grid_points: int = 10_000
+    realizations: int = 1_000_000
+    realization_points: int = 10**11
+    stored_values: int = 10**8
+
+    @classmethod
+    def parse(cls, items: Sequence[str], base: StudyLimits | None = None) -> StudyLimits:
+        """Apply ``NAME=VALUE`` items (the CLI's ``--limit``) to ``base`` (default: defaults).
+
+        Raises
+        ------
+        StudyConfigError
+            Unknown name, or a value that is not a positive integer.
+        """
+        import dataclasses
+
+        names = [f.name for f in dataclasses.fields(cls)]
+        values = dataclasses.asdict(base or cls())
+        for item in items:
+            name, sep, text = item.partition("=")
+            name = name.strip().replace("-", "_")
+            if not sep or name not in names:
+                raise StudyConfigError(
+                    f"--limit {item!r}: give NAME=VALUE with NAME one of {', '.join(names)}"
+                )
+            try:
+                number = float(text.replace("_", ""))
+            except ValueError:
+                number = math.nan
+            if not (math.isfinite(number) and number >= 1 and number == int(number)):
+                raise StudyConfigError(
+                    f"--limit {item!r}: {text.strip()!r} is not a positive integer"
+                )
+            values[name] = int(number)
+        return cls(**values)
+
+
+def check_limits(config: StudyConfig, limits: StudyLimits | None = None) -> None:
+    """Refuse a study above one of the ceilings of ``limits`` (see :class:`StudyLimits`).
+
+    Parameters
+    ----------
+    config : StudyConfig
+        The validated study.
+    limits : StudyLimits, optional
+        The ceilings (default: :class:`StudyLimits` ()).
+
+    Raises
+    ------
+    StudyConfigError
+        With one line naming the quantity, its value, the ceiling and how to raise it.
+    """
+    limits = StudyLimits() if limits is None else limits
+    grid = config.n_grid_points
+    total = grid * config.study.realizations
+    n_points = max(config._values("n_points"))
+    terms = max(config._values("directions")) * (max(config._values("n_max")) + 1)
+    checks = [
+        ("steps", config.max_steps, "steps of one simulation"),
+        ("points_terms", n_points * terms, "n_points × directions × (n_max + 1) of one profile"),
+        ("grid_points", grid, "points of the sweep grid"),
+        ("realizations", total, "realizations × grid points"),
+        ("realization_points", total * n_points, "realizations × grid points × n_points"),
+        (
+            "stored_values",
+            total * (config.max_steps + 1),
+            "realizations × grid points × (steps + 1)",
+        ),
+    ]
+    for name, value, what in checks:
+        ceiling = getattr(limits, name)
+        if value > ceiling:
+            raise StudyConfigError(
+                f"study {config.study.name!r}: {what} = {value:,} is above the ceiling "
+                f"{name} = {ceiling:,}; make the study smaller, or raise the ceiling with "
+                f"--limit {name}={value} (Python: limits=StudyLimits({name}={value}))"
+            )

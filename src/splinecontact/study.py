@@ -29,6 +29,13 @@ run or failed); ``status`` int8 (0 not run, 1 ok, 2 failed); ``error`` (message,
 left at the engine default ``None``, e.g. ``g_star``, are absent), ``study_toml``,
 ``study_seed``, ``splinecontact_version``, ``engine_fingerprint``, ``started``, ``finished``.
 
+Safety: :func:`run_study` prints nothing (progress goes to an optional callback, e.g.
+:class:`StudyProgressBar`); the study is validated and checked against :class:`StudyLimits`
+before anything is written; ``overwrite`` discards only a recognisable study store of another
+study (never another folder, the current directory, its parents, home or root, nor a store
+another run holds); an existing store is checked chunk by chunk before a run continues it, and
+damage is reported as :class:`~splinecontact.errors.StudyStoreError` naming it.
+
 Testing hook: :func:`run_study` takes ``realization_function`` (default
 :func:`simulate_realization`), any picklable module-level callable
 ``(parameters, seed) -> result`` with ``.curves`` and ``.scalars`` mappings. The tests use it to
@@ -40,9 +47,12 @@ from __future__ import annotations
 import ast
 import contextlib
 import datetime as _dt
+import errno
 import fcntl
 import functools
 import hashlib
+import itertools
+import json
 import math
 import multiprocessing
 import os
@@ -62,10 +72,17 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ._version import __version__
-from .config import PARAMETERS, StudyConfig, load_study, parse_study
+from .config import PARAMETERS, StudyConfig, StudyLimits, check_limits, load_study, parse_study
 from .contact import SIMULATION_PARAMETERS
-from .errors import SplineContactError, StudyConfigError, StudyStoreError
+from .errors import (
+    OutputError,
+    SplineContactError,
+    StudyConfigError,
+    StudyStoreError,
+    UnsafeOutputError,
+)
 from .generate import GENERATOR_PARAMETERS
+from .outputs import atomic_path, check_output_file, is_protected_directory
 from .results import SCALAR_VARIABLES, STEP_VARIABLES
 
 __all__ = [
@@ -76,6 +93,9 @@ __all__ = [
     "BatchTask",
     "FailedRealization",
     "StudyExecutionError",
+    "StudyLimits",
+    "StudyProgress",
+    "StudyProgressBar",
     "StudySummary",
     "engine_fingerprint",
     "export_netcdf",
@@ -104,7 +124,17 @@ RealizationFunction = Callable[[Mapping[str, Any], np.random.SeedSequence], Any]
 
 
 class StudyExecutionError(SplineContactError):
-    """Some batches could not be run (a worker died, the scheduler is unreachable, ...)."""
+    """Some batches could not be run (a worker died, the scheduler is unreachable, ...).
+
+    Attributes
+    ----------
+    summary : StudySummary or None
+        The state of the store when the run stopped (None if it never started).
+    """
+
+    def __init__(self, message: str, summary: StudySummary | None = None) -> None:
+        super().__init__(message)
+        self.summary = summary
 
 
 # --- provenance ---------------------------------------------------------------------------------
@@ -387,29 +417,137 @@ def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]
     return xr.Dataset(data_vars, coords=coords, attrs=attrs), encoding
 
 
-def _create_store(path: Path, config: StudyConfig) -> None:
-    """Create the empty store atomically (built beside ``path``, then renamed)."""
-    for stale in path.parent.glob(f".{path.name}.creating-*"):  # left by a killed creation
-        shutil.rmtree(stale, ignore_errors=True)
-    tmp = path.with_name(f".{path.name}.creating-{uuid.uuid4().hex}")
+def _try_lock(fd: int) -> bool:
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return False
+    return True
+
+
+def _remove_stale_creations(path: Path) -> None:
+    """Delete the temporary stores a killed run left beside ``path``.
+
+    A run holds a lock on its temporary store while it builds it, so the temporary store of a
+    live concurrent run is never touched: only those nobody holds are removed.
+    """
+    for stale in path.parent.glob(f".{path.name}.creating-*"):
+        if stale.is_symlink() or not stale.is_dir():
+            continue
+        try:
+            fd = os.open(stale, os.O_RDONLY)
+        except OSError:
+            continue
+        try:
+            if _try_lock(fd):
+                shutil.rmtree(stale, ignore_errors=True)
+        finally:
+            os.close(fd)
+
+
+def _create_store(path: Path, config: StudyConfig) -> bool:
+    """Create the empty store atomically (built beside ``path``, then renamed).
+
+    Returns False, leaving ``path`` as it is, if another run created the store first.
+    """
+    if not path.parent.expanduser().resolve().is_dir():
+        raise StudyStoreError(
+            f"cannot create the store {path}: the folder {path.parent} does not exist"
+        )
+    _remove_stale_creations(path)
+    while True:
+        tmp = path.with_name(f".{path.name}.creating-{uuid.uuid4().hex}")
+        os.mkdir(tmp)
+        fd = os.open(tmp, os.O_RDONLY)
+        # Another run's clean-up may have taken it between mkdir and lock: then use a new name.
+        if _try_lock(fd) and os.fstat(fd).st_nlink > 0:
+            break
+        os.close(fd)
     try:
         dataset, encoding = _template(config)
         dataset.to_zarr(tmp, mode="w-", encoding=encoding, consolidated=False, compute=False)
-        os.rename(tmp, path)
+        try:
+            os.rename(tmp, path)
+        except OSError as exc:
+            if exc.errno in (errno.ENOTEMPTY, errno.EEXIST) and path.exists():
+                return False  # a concurrent run created it first
+            raise
+        return True
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
+        os.close(fd)
+
+
+def _root_metadata(path: Path) -> dict[str, Any] | None:
+    """The attributes of the store's root group if ``path`` is recognisably a study store.
+
+    Returns None when ``path`` carries no study metadata at all (not a store).
+
+    Raises
+    ------
+    StudyStoreError
+        The root metadata exists but cannot be read (a damaged store).
+    """
+    meta = path / "zarr.json"
+    if not meta.is_file():
+        return None
+    try:
+        data = json.loads(meta.read_bytes())
+    except (OSError, ValueError) as exc:
+        raise StudyStoreError(
+            f"store {path} is damaged: its root metadata zarr.json cannot be read "
+            f"({_one_line(exc)}); it cannot be used or replaced: restore it from a copy, or "
+            "remove it yourself and run again"
+        ) from None
+    if not isinstance(data, dict) or not isinstance(data.get("attributes"), dict):
+        return None
+    attrs: dict[str, Any] = data["attributes"]
+    return attrs if "study_toml" in attrs else None
 
 
 def _read_store_attrs(path: Path) -> dict[str, Any] | None:
-    import zarr
-
     try:
-        group = zarr.open_group(path, mode="r")
-    except Exception:
+        return _root_metadata(path)
+    except StudyStoreError:
         return None
-    attrs = dict(group.attrs)
-    return attrs if "study_toml" in attrs else None
+
+
+def _stored_config(path: Path, attrs: Mapping[str, Any]) -> StudyConfig:
+    """The study a store was written for (its ``study_toml`` attribute)."""
+    import tomllib
+
+    text = attrs.get("study_toml")
+    if not isinstance(text, str):
+        raise StudyStoreError(
+            f"store {path} is damaged: its attribute study_toml is not text ({text!r:.60})"
+        )
+    try:
+        return parse_study(tomllib.loads(text), source=f"{path} (stored)")
+    except (tomllib.TOMLDecodeError, StudyConfigError, RecursionError) as exc:
+        raise StudyStoreError(
+            f"store {path} is damaged: its attribute study_toml is not a valid study "
+            f"({_one_line(exc)})"
+        ) from None
+
+
+def _foreign_entry(path: Path) -> Path | None:
+    """The first file or link under ``path`` that is not part of a Zarr store, if any."""
+    for root, dirs, files in os.walk(path):
+        here = Path(root)
+        for name in [*dirs, *files]:
+            item = here / name
+            rel = item.relative_to(path).parts
+            if item.is_symlink():
+                return item
+            if name in dirs:
+                continue
+            if rel == ("zarr.json",) or (len(rel) == 2 and rel[1] == "zarr.json"):
+                continue
+            if len(rel) >= 3 and rel[1] == "c":
+                continue  # a chunk file (or a partial one) of an array
+            return item
+    return None
 
 
 def _first_difference(a: Any, b: Any, prefix: str = "") -> str | None:
@@ -431,19 +569,33 @@ def _first_difference(a: Any, b: Any, prefix: str = "") -> str | None:
     return None
 
 
-def _prepare_store(path: Path, config: StudyConfig, *, overwrite: bool) -> None:
-    if path.exists():
-        attrs = _read_store_attrs(path)
-        if attrs is None:
-            if not overwrite:
-                raise StudyStoreError(
-                    f"{path} exists and is not a splinecontact study store; choose another "
-                    "output path (or --overwrite to replace it)"
-                )
-        else:
-            import tomllib
+def _prepare_store(path: Path, config: StudyConfig, *, overwrite: bool) -> bool:
+    """Create the store, or check that the existing one holds this study (or discard it).
 
-            stored = parse_study(tomllib.loads(attrs["study_toml"]), source=f"{path} (stored)")
+    Only a directory that is recognisably a study store (its own root metadata, nothing but
+    Zarr files in it) is ever discarded, and only with ``overwrite``, never the current
+    directory, one of its parents, the home directory or the root, and never while another run
+    holds its lock. Anything else is refused and left untouched.
+
+    Returns True if the store was created by this call (it holds no results yet).
+    """
+    for _ in range(3):
+        if not (path.exists() or path.is_symlink()):
+            if _create_store(path, config):
+                return True
+            continue  # a concurrent run created it: check it like any existing store
+        attrs = None if not path.is_dir() else _root_metadata(path)
+        if attrs is None:
+            raise StudyStoreError(
+                f"{path} exists and is not a splinecontact study store; choose another "
+                "output path (--overwrite replaces only a study store)"
+            )
+        try:
+            stored = _stored_config(path, attrs)
+        except StudyStoreError as exc:
+            if not overwrite:
+                raise StudyStoreError(f"{exc}; --overwrite discards it and starts again") from None
+        else:
             diff = _first_difference(stored.identity(), config.identity())
             version = attrs.get("splinecontact_version")
             if diff is None and version != __version__:
@@ -455,18 +607,36 @@ def _prepare_store(path: Path, config: StudyConfig, *, overwrite: bool) -> None:
                     f"fingerprint {fingerprint} in the store, {engine_fingerprint()} now)"
                 )
             if diff is None:
-                return
+                return False
             if not overwrite:
                 raise StudyStoreError(
                     f"store {path} belongs to a different study ({diff}); use another output "
                     "path, or --overwrite to discard the store and start again"
                 )
-        if path.is_dir():
-            with _locked(path):  # refuse to discard a store another run is writing
-                shutil.rmtree(path)
-        else:
-            path.unlink()
-    _create_store(path, config)
+        _discard_store(path)
+        overwrite = False
+    raise StudyStoreError(f"store {path} keeps changing under this run; is another run using it?")
+
+
+def _discard_store(path: Path) -> None:
+    """Remove the study store ``path`` (already recognised as one), under its lock."""
+    if path.is_symlink():
+        raise UnsafeOutputError(
+            f"-o {path} is a symbolic link; refusing to replace it; give the store's real path"
+        )
+    if is_protected_directory(path):
+        raise UnsafeOutputError(
+            f"-o {path} is the current directory, one of its parents or the home directory; "
+            "refusing to replace it"
+        )
+    with _locked(path):  # refuse to discard a store another run is writing
+        foreign = _foreign_entry(path)
+        if foreign is not None:
+            raise UnsafeOutputError(
+                f"-o {path} holds {foreign.relative_to(path)}, which is not part of a study "
+                "store; refusing to discard it; move your files out or choose another path"
+            )
+        shutil.rmtree(path)
 
 
 @contextlib.contextmanager
@@ -491,20 +661,108 @@ def _remove_partial_files(path: Path) -> None:
         partial.unlink(missing_ok=True)
 
 
+_ARRAYS = (*STEP_VARIABLES, *SCALAR_VARIABLES, "error", "status")
+_STATUS_CODES = (STATUS_NOT_RUN, STATUS_OK, STATUS_FAILED)
+
+
+def _open_arrays(path: Path, mode: str) -> tuple[Any, dict[str, Any]]:
+    """The root group and the arrays a run writes, or a StudyStoreError naming what is missing."""
+    import zarr
+
+    try:
+        group = zarr.open_group(path, mode=mode)  # type: ignore[arg-type]
+    except Exception as exc:
+        raise StudyStoreError(
+            f"store {path} is damaged: it cannot be opened ({_one_line(exc)})"
+        ) from None
+    arrays: dict[str, Any] = {}
+    for name in _ARRAYS:
+        try:
+            arrays[name] = group[name]
+        except KeyError:
+            raise StudyStoreError(
+                f"store {path} is damaged: the array {name!r} is missing ({name}/zarr.json)"
+            ) from None
+        except Exception as exc:
+            raise StudyStoreError(
+                f"store {path} is damaged: the array {name!r} cannot be opened ({_one_line(exc)})"
+            ) from None
+    return group, arrays
+
+
+def _chunk_regions(shape: Sequence[int], chunks: Sequence[int]) -> Iterator[tuple[slice, ...]]:
+    ranges = [range(0, n, c) for n, c in zip(shape, chunks, strict=True)]
+    for starts in itertools.product(*ranges):
+        yield tuple(slice(a, min(a + c, n)) for a, c, n in zip(starts, chunks, shape, strict=True))
+
+
+def _check_status_codes(path: Path, status: NDArray[Any]) -> None:
+    bad = ~np.isin(status, _STATUS_CODES)
+    if bad.any():
+        where = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise StudyStoreError(
+            f"store {path} is damaged: status holds the unknown code {int(status[where])} at "
+            f"{where} (codes: 0 not run, 1 ok, 2 failed)"
+        )
+
+
+def _verify_store(path: Path, arrays: Mapping[str, Any], config: StudyConfig) -> None:
+    """Check shapes, decode every chunk and check the status codes; name the first damage."""
+    realizations = config.study.realizations
+    shapes = {name: (*config.grid_shape, realizations) for name in _ARRAYS}
+    for name in STEP_VARIABLES:
+        shapes[name] = (*config.grid_shape, realizations, config.max_steps + 1)
+    for name, array in arrays.items():
+        if tuple(array.shape) != shapes[name]:
+            raise StudyStoreError(
+                f"store {path} is damaged: the array {name!r} has shape {tuple(array.shape)}, "
+                f"the study needs {shapes[name]}"
+            )
+        for region in _chunk_regions(array.shape, array.chunks):
+            try:
+                block = array[region]
+            except MemoryError:
+                raise
+            except Exception as exc:
+                chunk = tuple(r.start // c for r, c in zip(region, array.chunks, strict=True))
+                raise StudyStoreError(
+                    f"store {path} is damaged: chunk {'/'.join(map(str, chunk))} of {name!r} "
+                    f"cannot be read ({_one_line(exc)}); restore the store from a copy, or run "
+                    "with --overwrite to start again"
+                ) from None
+            if name == "status":
+                _check_status_codes(path, np.asarray(block))
+
+
 class _Writer:
     """Writes finished batches into the store: data, then ``error``, then ``status``."""
 
     def __init__(self, path: Path) -> None:
-        import zarr
+        self.path = path
+        # Read-only until something is written: a run with nothing to do works on a read-only
+        # store and changes nothing.
+        self.group, self.arrays = _open_arrays(path, "r")
+        self._writable = False
 
-        self.group = zarr.open_group(path, mode="r+")
-        names = [*STEP_VARIABLES, *SCALAR_VARIABLES, "error", "status"]
-        self.arrays: dict[str, Any] = {name: self.group[name] for name in names}
+    def _make_writable(self) -> None:
+        if not self._writable:
+            self.group, self.arrays = _open_arrays(self.path, "r+")
+            self._writable = True
 
     def status(self) -> NDArray[np.int8]:
-        return np.asarray(self.arrays["status"][...], dtype=np.int8)
+        try:
+            status = np.asarray(self.arrays["status"][...])
+        except MemoryError:
+            raise
+        except Exception as exc:
+            raise StudyStoreError(
+                f"store {self.path} is damaged: 'status' cannot be read ({_one_line(exc)})"
+            ) from None
+        _check_status_codes(self.path, status)
+        return status.astype(np.int8)
 
     def write(self, result: BatchResult) -> None:
+        self._make_writable()
         task = result.task
         region = (*task.grid_index, slice(task.start, task.stop))
         for name in STEP_VARIABLES:
@@ -514,7 +772,11 @@ class _Writer:
         self.arrays["error"][region] = np.array(result.errors, dtype=object)
         self.arrays["status"][region] = result.status
 
+    def finished(self) -> bool:
+        return bool(self.group.attrs.get("finished"))
+
     def finish(self) -> None:
+        self._make_writable()
         self.group.attrs.update({"finished": _now()})
 
 
@@ -553,6 +815,19 @@ def _init_worker(parent: int) -> None:
     threading.Thread(target=watch, name="splinecontact-parent-watchdog", daemon=True).start()
 
 
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Ignore SIGINT in this block (processes started here inherit it); main thread only."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _run_pool(
     tasks: Sequence[BatchTask], func: RealizationFunction | None, workers: int
 ) -> Iterator[BatchResult | _Lost]:
@@ -562,9 +837,12 @@ def _run_pool(
     )
     finished = False
     try:
-        pending: dict[Future[BatchResult], BatchTask] = {
-            pool.submit(run_batch, task, func): task for task in tasks
-        }
+        # The workers are started by submit(): started with Ctrl-C ignored, a worker still
+        # importing when Ctrl-C comes prints no traceback (the main process handles it).
+        with _sigint_ignored():
+            pending: dict[Future[BatchResult], BatchTask] = {
+                pool.submit(run_batch, task, func): task for task in tasks
+            }
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
@@ -606,12 +884,28 @@ def _run_distributed(
 
 def _connect(scheduler: Any) -> tuple[Any, bool]:
     """A distributed Client for ``scheduler`` (an address or a Client) and whether we own it."""
-    from distributed import Client
+    try:
+        from distributed import Client
+    except ImportError:
+        raise StudyExecutionError(
+            "a Dask scheduler needs the distributed package; install it with "
+            "`pip install distributed`"
+        ) from None
 
     if isinstance(scheduler, Client):
         return scheduler, False
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise StudyConfigError(
+            f"scheduler = {scheduler!r}: not a Dask scheduler address; give one such as "
+            "tcp://10.0.0.1:8786"
+        )
     try:
         return Client(scheduler, timeout="20s"), True
+    except (ValueError, TypeError) as exc:
+        raise StudyConfigError(
+            f"scheduler = {scheduler!r}: not a Dask scheduler address ({_one_line(exc)}); give "
+            "one such as tcp://10.0.0.1:8786"
+        ) from None
     except (OSError, TimeoutError) as exc:
         raise StudyExecutionError(
             f"cannot connect to the Dask scheduler at {scheduler!r} ({_one_line(exc)}); start "
@@ -759,38 +1053,92 @@ def print_summary(summary: StudySummary, console: Any = None, *, max_failures: i
         console.print("Run the same command again to continue.", highlight=False)
 
 
-def _progress(enabled: bool) -> Any:
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        ProgressColumn,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-    from rich.text import Text
+@dataclass(frozen=True)
+class StudyProgress:
+    """What :func:`run_study` reports to its ``progress`` callback.
 
-    class _Rate(ProgressColumn):
-        def render(self, task: Any) -> Text:
-            speed = task.finished_speed or task.speed
-            return Text("  –  real./s" if speed is None else f"{speed:6.2f} real./s")
+    The callback is called once when the work is planned, after every batch is stored, and
+    once at the end with ``summary`` set.
 
-    console = Console(stderr=True)
-    progress = Progress(
-        TextColumn("[bold]study"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        _Rate(),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
-        console=console,
-        disable=not (enabled and console.is_terminal),
-        transient=False,
-    )
-    return progress
+    Attributes
+    ----------
+    store : Path
+        The Zarr store.
+    total : int
+        Realizations in the study.
+    done : int
+        Realizations with a result in the store (ok or failed), this call's included.
+    ran_now : int
+        Realizations computed by this call so far.
+    elapsed : float
+        Time since the call started [s].
+    summary : StudySummary or None
+        The outcome, on the last call only.
+    """
+
+    store: Path
+    total: int
+    done: int
+    ran_now: int
+    elapsed: float
+    summary: StudySummary | None = None
+
+
+class StudyProgressBar:
+    """A rich progress bar for :func:`run_study`, drawn on standard error on a terminal only.
+
+    Use it as a context manager and pass it as ``progress``::
+
+        with StudyProgressBar() as bar:
+            summary = run_study("study.toml", "out.zarr", progress=bar)
+        print_summary(summary)
+    """
+
+    def __init__(self, console: Any = None) -> None:
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            ProgressColumn,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+        from rich.text import Text
+
+        class _Rate(ProgressColumn):
+            def render(self, task: Any) -> Text:
+                speed = task.finished_speed or task.speed
+                return Text("  –  real./s" if speed is None else f"{speed:6.2f} real./s")
+
+        console = Console(stderr=True) if console is None else console
+        self._progress = Progress(
+            TextColumn("[bold]study"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            _Rate(),
+            TimeElapsedColumn(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+            console=console,
+            disable=not console.is_terminal,
+            transient=False,
+        )
+        self._task: Any = None
+
+    def __enter__(self) -> StudyProgressBar:
+        self._progress.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._progress.stop()
+
+    def __call__(self, event: StudyProgress) -> None:
+        if self._task is None:
+            self._task = self._progress.add_task("study", total=event.total, completed=event.done)
+        else:
+            self._progress.update(self._task, completed=event.done)
 
 
 # --- the runner ---------------------------------------------------------------------------------
@@ -811,6 +1159,16 @@ def _as_config(config_or_path: StudyConfig | str | Path | Mapping[str, Any]) -> 
     return load_study(config_or_path)
 
 
+ProgressCallback = Callable[[StudyProgress], None]
+
+
+def _check_count(name: str, value: Any) -> None:
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise StudyConfigError(f"{name} = {value!r}: must be an integer ≥ 1")
+
+
 def run_study(
     config_or_path: StudyConfig | str | Path | Mapping[str, Any],
     out: str | Path,
@@ -818,11 +1176,14 @@ def run_study(
     workers: int | None = None,
     scheduler: Any = None,
     batch_size: int | None = None,
-    progress: bool = True,
+    progress: ProgressCallback | bool | None = None,
     overwrite: bool = False,
+    limits: StudyLimits | None = None,
     realization_function: RealizationFunction | None = None,
 ) -> StudySummary:
     """Run (or continue) a study and store it in the Zarr store ``out``.
+
+    Silent: nothing is printed unless ``progress`` asks for it.
 
     Parameters
     ----------
@@ -841,10 +1202,17 @@ def run_study(
     batch_size : int, optional
         Realizations per task (default: ``[output] batch_size`` of the study, else automatic:
         about four tasks per worker, at most 16 realizations each). Does not change the results.
-    progress : bool
-        Show a progress bar (on a terminal) and print the summary at the end.
+    progress : callable, bool or None
+        Called with a :class:`StudyProgress` when the work is planned, after every stored batch
+        and at the end (e.g. a :class:`StudyProgressBar`). ``None`` or ``False`` (default):
+        silent. ``True``: a :class:`StudyProgressBar` and :func:`print_summary` at the end.
     overwrite : bool
-        Discard an existing store that belongs to another study.
+        Discard an existing store that belongs to another study. Only a directory that is
+        recognisably a study store is discarded (see ``docs/outputs.md``); anything else is
+        refused and left untouched.
+    limits : StudyLimits, optional
+        Ceilings on the size of the study (default :class:`StudyLimits` ()), checked before
+        anything is written.
     realization_function : callable, optional
         Replaces :func:`simulate_realization` (testing and extension hook): a picklable
         module-level function ``(parameters, seed) -> result`` with ``.curves``/``.scalars``.
@@ -856,38 +1224,68 @@ def run_study(
     Raises
     ------
     StudyConfigError
-        Invalid study file.
+        Invalid study file, option or scheduler address, or a study above ``limits``; nothing
+        is written.
     StudyStoreError
-        ``out`` belongs to another study, or another run is writing it.
+        ``out`` is not a study store, belongs to another study, is damaged, or another run is
+        writing it.
+    UnsafeOutputError
+        ``overwrite`` would discard something that is not a study store.
     StudyExecutionError
         Batches could not be run (a worker died, the scheduler is unreachable); everything
         finished is stored: run again to continue.
     """
+    if progress is True:
+        with StudyProgressBar() as bar:
+            try:
+                summary = run_study(
+                    config_or_path,
+                    out,
+                    workers=workers,
+                    scheduler=scheduler,
+                    batch_size=batch_size,
+                    progress=bar,
+                    overwrite=overwrite,
+                    limits=limits,
+                    realization_function=realization_function,
+                )
+            except StudyExecutionError as exc:
+                if exc.summary is not None:
+                    bar.__exit__()
+                    print_summary(exc.summary)
+                raise
+        print_summary(summary)
+        return summary
+    report = progress if callable(progress) else None
     t0 = time.perf_counter()
     config = _as_config(config_or_path)
     path = Path(out)
-    if workers is not None and workers < 1:
-        raise StudyConfigError(f"workers = {workers}: must be ≥ 1")
-    if batch_size is not None and batch_size < 1:
-        raise StudyConfigError(f"batch_size = {batch_size}: must be ≥ 1")
+    _check_count("workers", workers)
+    _check_count("batch_size", batch_size)
+    check_limits(config, limits)
     client, own_client = (None, False) if scheduler is None else _connect(scheduler)
     try:
-        _prepare_store(path, config, overwrite=overwrite)
+        created = _prepare_store(path, config, overwrite=overwrite)
         with _locked(path):
             _remove_partial_files(path)
             writer = _Writer(path)
+            if not created:
+                _verify_store(path, writer.arrays, config)
             status = writer.status()
+            total = int(status.size)
             n_done = int(np.count_nonzero(status != STATUS_NOT_RUN))
-            if client is not None:
+            if client is not None and n_done < total:
                 _check_workers(client)
                 n_workers = max(1, sum(client.nthreads().values()))
             else:
                 n_workers = _default_workers() if workers is None else workers
             size = batch_size or config.output.batch_size
             if size is None:
-                size = _auto_batch_size(int(status.size) - n_done, n_workers)
+                size = _auto_batch_size(total - n_done, n_workers)
             tasks = _make_batches(config, status, size)
-            if client is not None:
+            if not tasks:
+                results: Iterator[BatchResult | _Lost] = iter(())
+            elif client is not None:
                 results = _run_distributed(tasks, realization_function, client)
             elif n_workers == 1 or len(tasks) <= 1:
                 results = _run_serial(tasks, realization_function)
@@ -895,37 +1293,40 @@ def run_study(
                 results = _run_pool(tasks, realization_function, min(n_workers, len(tasks)))
             ran_now = 0
             lost: list[str] = []
-            bar = _progress(progress)
-            with bar:
-                task_id = bar.add_task("study", total=int(status.size), completed=n_done)
-                try:
-                    for item in results:
-                        if isinstance(item, _Lost):
-                            t = item.task
-                            where = _grid_label(config, t.grid_index)
-                            lost.append(
-                                f"{where}realizations {t.start}–{t.stop - 1}: {item.reason}"
-                            )
-                            continue
-                        writer.write(item)
-                        ran_now += item.task.stop - item.task.start
-                        bar.advance(task_id, item.task.stop - item.task.start)
-                finally:
-                    close = getattr(results, "close", None)
-                    if close is not None:
-                        close()
+            if report is not None:
+                report(StudyProgress(path, total, n_done, 0, time.perf_counter() - t0))
+            try:
+                for item in results:
+                    if isinstance(item, _Lost):
+                        t = item.task
+                        where = _grid_label(config, t.grid_index)
+                        lost.append(f"{where}realizations {t.start}–{t.stop - 1}: {item.reason}")
+                        continue
+                    writer.write(item)
+                    n = item.task.stop - item.task.start
+                    ran_now += n
+                    n_done += n
+                    if report is not None:
+                        elapsed = time.perf_counter() - t0
+                        report(StudyProgress(path, total, n_done, ran_now, elapsed))
+            finally:
+                close = getattr(results, "close", None)
+                if close is not None:
+                    close()
             summary = _summarize(path, config, writer, ran_now, lost, time.perf_counter() - t0)
-            if summary.complete and not lost:
+            # A finished store is left as it is: a no-op run changes nothing.
+            if summary.complete and not lost and (ran_now or not writer.finished()):
                 writer.finish()
     finally:
         if own_client and client is not None:
             client.close()
-    if progress:
-        print_summary(summary)
+    if report is not None:
+        report(StudyProgress(path, total, n_done, ran_now, summary.wall_time, summary))
     if lost:
         raise StudyExecutionError(
             f"{len(lost)} batch(es) could not be run ({lost[0]}); everything finished is "
-            f"stored in {path}: run the same command again to continue"
+            f"stored in {path}: run the same command again to continue",
+            summary,
         )
     return summary
 
@@ -944,10 +1345,38 @@ def open_study(path: str | Path) -> xr.Dataset:
     path = Path(path)
     if not path.exists():
         raise StudyStoreError(f"study store {path}: no such directory")
-    if _read_store_attrs(path) is None:
+    attrs = _root_metadata(path) if path.is_dir() else None
+    if attrs is None:
         raise StudyStoreError(f"{path} is not a splinecontact study store")
-    with xr.open_zarr(path, consolidated=False) as ds:
+    config = _stored_config(path, attrs)
+    _open_arrays(path, "r")  # names a missing array
+    try:
+        ds = xr.open_zarr(path, consolidated=False)
+    except Exception as exc:
+        raise StudyStoreError(
+            f"store {path} is damaged: it cannot be opened ({_one_line(exc)})"
+        ) from None
+    with ds:
+        for name, variable in ds.variables.items():
+            try:
+                variable.load()
+            except MemoryError:
+                raise
+            except Exception as exc:
+                raise StudyStoreError(
+                    f"store {path} is damaged: {name!r} cannot be read ({_one_line(exc)})"
+                ) from None
         loaded = ds.load()
+    expected = (*config.grid_shape, config.study.realizations)
+    for name in (*_ARRAYS, "seed_spawn_key"):
+        if name not in loaded.data_vars:
+            raise StudyStoreError(f"store {path} is damaged: the variable {name!r} is missing")
+    if loaded["status"].shape != expected or loaded.sizes.get("step") != config.max_steps + 1:
+        raise StudyStoreError(
+            f"store {path} is damaged: its arrays do not have the shape of its study "
+            f"(status {loaded['status'].shape}, the study needs {expected})"
+        )
+    _check_status_codes(path, loaded["status"].values)
     # Variable-length strings come back as numpy's StringDType: use plain str objects.
     for name in list(loaded.variables):
         var = loaded.variables[name]
@@ -991,15 +1420,78 @@ def parameter_value(ds: xr.Dataset, name: str, **grid_index: int) -> Any:
     raise StudyStoreError(f"{name!r} is not a study parameter; known: {', '.join(PARAMETERS)}")
 
 
-def export_netcdf(store: str | Path, target: str | Path) -> Path:
-    """Write a study store as one netCDF-4 file (h5netcdf engine) and return its path."""
-    ds = open_study(store)
+def _write_bytes(path: Path, data: memoryview) -> None:
+    """Write ``data`` to the new file ``path`` and flush it to disk."""
+    with open(path, "xb") as file:
+        file.write(data)
+        file.flush()
+        os.fsync(file.fileno())
+
+
+def _remove_dead_temporaries(target: Path) -> None:
+    """Remove temporary files of earlier exports to ``target`` whose process is gone (kill -9)."""
+    for tmp in target.parent.glob(f".{target.stem}.tmp-*-*{target.suffix}"):
+        pid_text = tmp.name.removeprefix(f".{target.stem}.tmp-").split("-", 1)[0]
+        if not pid_text.isdigit() or int(pid_text) == os.getpid() or not tmp.is_file():
+            continue
+        try:
+            os.kill(int(pid_text), 0)
+        except ProcessLookupError:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            continue
+
+
+def export_netcdf(store: str | Path, target: str | Path, *, overwrite: bool = False) -> Path:
+    """Write a study store as one netCDF-4 file (h5netcdf engine) and return its path.
+
+    The file is written whole to a temporary name beside ``target`` and renamed into place, so
+    an interruption or a full disk leaves no partial file and an earlier file intact.
+
+    Parameters
+    ----------
+    store : path
+        The study store (:func:`run_study`).
+    target : path
+        The netCDF file to write.
+    overwrite : bool
+        Replace ``target`` if it exists (never a file inside ``store``).
+
+    Raises
+    ------
+    StudyStoreError
+        ``store`` is not a study store, or is damaged.
+    OutputExistsError
+        ``target`` exists and ``overwrite`` is false.
+    UnsafeOutputError
+        ``target`` is a folder, lies inside ``store``, or its folder does not exist.
+    OutputError
+        The file cannot be written (full disk, permissions); nothing is left behind.
+    """
+    store = Path(store)
     target = Path(target)
+    if store.exists():
+        resolved, root = target.expanduser().resolve(), store.expanduser().resolve()
+        if resolved == root or root in resolved.parents:
+            raise UnsafeOutputError(
+                f"--netcdf {target} is inside the study store {store}; refusing to write there"
+            )
+    target = check_output_file(target, overwrite=overwrite, option="--netcdf")
+    ds = open_study(store)
     try:
-        ds.to_netcdf(target, engine="h5netcdf", invalid_netcdf=False)
+        data = ds.to_netcdf(engine="h5netcdf", invalid_netcdf=False)
     except ImportError as exc:
         raise StudyStoreError(
             f"cannot write {target}: netCDF-4 writing needs h5py ({exc}); install it with "
             "`pip install h5py`"
+        ) from None
+    _remove_dead_temporaries(target)
+    try:
+        with atomic_path(target) as tmp:
+            _write_bytes(tmp, data)
+    except OSError as exc:
+        reason = exc.strerror or _one_line(exc)
+        raise OutputError(
+            f"--netcdf {target}: cannot be written ({reason}); nothing was written"
         ) from None
     return target

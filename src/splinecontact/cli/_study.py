@@ -45,32 +45,63 @@ def run(
     ] = False,
     overwrite: Annotated[
         bool,
-        typer.Option("--overwrite", help="Discard an existing store of a different study."),
+        typer.Option(
+            "--overwrite",
+            help="Discard an existing study store of a different study (only a study store; "
+            "see docs/outputs.md).",
+        ),
     ] = False,
+    limit: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--limit",
+            metavar="NAME=VALUE",
+            help="Raise a size ceiling (steps, points_terms, grid_points, realizations, "
+            "realization_points, stored_values); repeatable.",
+        ),
+    ] = None,
 ) -> None:
     """Run a study, or continue it where it stopped (same command, same store).
 
     Exit status: 0 when every realization has run (failed realizations are results, listed
     in the summary and recorded in the store), 1 on an error, 130 when interrupted.
     """
-    from ..study import run_study
+    import contextlib
 
-    try:
-        run_study(
-            study_file,
-            out,
-            workers=workers,
-            scheduler=scheduler,
-            batch_size=batch_size,
-            progress=not quiet,
-            overwrite=overwrite,
+    from ..config import StudyLimits
+    from ..study import StudyExecutionError, StudyProgressBar, print_summary, run_study
+
+    if scheduler is not None and workers is not None:
+        raise fail(
+            "--workers sets the local worker processes, --scheduler sends the work to a Dask "
+            "cluster's workers instead; give one of them"
         )
+    limits = StudyLimits.parse(limit or [])
+    bar = None if quiet else StudyProgressBar()
+    try:
+        with bar if bar is not None else contextlib.nullcontext():
+            summary = run_study(
+                study_file,
+                out,
+                workers=workers,
+                scheduler=scheduler,
+                batch_size=batch_size,
+                progress=bar,
+                overwrite=overwrite,
+                limits=limits,
+            )
+    except StudyExecutionError as exc:
+        if bar is not None and exc.summary is not None:
+            print_summary(exc.summary)
+        raise
     except KeyboardInterrupt:
         raise fail(
             f"interrupted; everything finished is stored in {out}: run the same command "
             "again to continue",
             code=130,
         ) from None
+    if bar is not None:
+        print_summary(summary)
 
 
 @study_app.command("export")
@@ -78,11 +109,14 @@ def run(
 def export(
     store: Annotated[Path, typer.Argument(help="Study store written by `study run`.")],
     netcdf: Annotated[Path, typer.Option("--netcdf", help="netCDF-4 file to write.")],
+    overwrite: Annotated[
+        bool, typer.Option("--overwrite", help="Replace the netCDF file if it exists.")
+    ] = False,
 ) -> None:
-    """Write a study store as one netCDF-4 file."""
+    """Write a study store as one netCDF-4 file (written whole, then renamed into place)."""
     from ..study import export_netcdf
 
-    export_netcdf(store, netcdf)
+    export_netcdf(store, netcdf, overwrite=overwrite)
 
 
 def register(app: typer.Typer) -> None:
