@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the pac
 
 __all__ = [
     "CONTACT_VARIABLES",
+    "PATH_STEP_VARIABLES",
     "SCALAR_VARIABLES",
     "STEP_VARIABLES",
     "ContactRecord",
@@ -31,6 +32,10 @@ __all__ = [
 #: Per-step variables: name -> (units, description). Forces are per µm of out-of-plane thickness.
 STEP_VARIABLES: dict[str, tuple[str, str]] = {
     "displacement": ("µm", "normal displacement δ_N of the upper body from first contact"),
+    "tangential_displacement": (
+        "µm",
+        "tangential displacement u_T of the upper body along +x (0 for a normal loading)",
+    ),
     "normal_force": ("mN/µm", "global normal force F_N on the upper body (eq. 14)"),
     "tangential_force": ("mN/µm", "global tangential force F_T on the upper body (eq. 14)"),
     "contact_area": ("µm", "contact area A_S = Σ √(δ_i R_eff,i) per unit thickness (eq. 10)"),
@@ -43,6 +48,19 @@ STEP_VARIABLES: dict[str, tuple[str, str]] = {
         "accepted contacts whose repulsive direction points below horizontal (e_z < 0)",
     ),
     "n_candidates": ("1", "points whose gap has closed (detection, z^u ≤ z^l)"),
+}
+
+#: Per-step variables of a load path (``simulate(..., path=...)``) only.
+PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = {
+    "n_slipping": ("1", "accepted contacts whose tangential force is capped at μ0|F^n| (slip)"),
+    "dissipated_work": (
+        "mN·µm/µm",
+        "frictional work dissipated since step 0, Σ slip × capped force (nJ per µm thickness)",
+    ),
+    "normal_force_target": (
+        "mN/µm",
+        "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
+    ),
 }
 
 #: Per-simulation scalar variables: name -> (units, description).
@@ -73,6 +91,7 @@ CONTACT_VARIABLES: dict[str, tuple[str, str]] = {
     "contact_tangential_force": ("mN/µm", "F^t_i along the contact tangent t (eqs. 11–13)"),
     "contact_normal_x": ("1", "x component of the repulsive direction e_i"),
     "contact_normal_z": ("1", "z component of the repulsive direction e_i"),
+    "contact_slipping": ("1", "1 where the contact slips (|F^t| capped at μ0|F^n|), else 0"),
 }
 
 
@@ -98,6 +117,8 @@ class ContactRecord:
         Local tangential force along the contact tangent t = (e_z, −e_x) [mN/µm].
     normal_x, normal_z : ndarray
         Repulsive direction e_i (unit vector, force on the upper body) [1].
+    slipping : ndarray of bool or None
+        Whether each contact slips (load paths only; ``None`` for a plain normal loading).
     """
 
     step: int
@@ -110,6 +131,7 @@ class ContactRecord:
     tangential_force: NDArray[np.float64]
     normal_x: NDArray[np.float64]
     normal_z: NDArray[np.float64]
+    slipping: NDArray[np.bool_] | None = None
 
 
 def jsonable(value: Any) -> Any:
@@ -207,6 +229,10 @@ class SimulationResult:
                 "contact_normal_x": np.concatenate([c.normal_x for c in self.contacts]),
                 "contact_normal_z": np.concatenate([c.normal_z for c in self.contacts]),
             }
+            if all(c.slipping is not None for c in self.contacts):
+                columns["contact_slipping"] = np.concatenate(
+                    [np.asarray(c.slipping, dtype=np.int8) for c in self.contacts]
+                )
             for name, values in columns.items():
                 units, description = CONTACT_VARIABLES[name]
                 data_vars[name] = xr.Variable(
