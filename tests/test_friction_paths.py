@@ -101,7 +101,9 @@ def test_sticking_spring_follows_the_contact(r1: float, r2: float, d: float, u0:
     assert np.all(result.n_slipping == 0)
     du = np.diff(u[live])
     dd = np.diff(dn[live])
-    increments = 0.5 * (du * (e_z[live][1:] + e_z[live][:-1]) + dd * (e_x[live][1:] + e_x[live][:-1]))
+    increments = 0.5 * (
+        du * (e_z[live][1:] + e_z[live][:-1]) + dd * (e_x[live][1:] + e_x[live][:-1])
+    )
     spring = -G_STAR * np.concatenate([[0.0], np.cumsum(increments)])
     magnitude = QP * E_STAR * delta[live]
     recorded = np.array([c.tangential_force[0] for c in result.contacts[first:]])
@@ -173,7 +175,9 @@ def test_unloading_retraces_loading_without_slip() -> None:
         result = simulate(lower, upper, mu0=mu0, e_star=E_STAR, path=path)
         load = slice(3, 3 + n + 1)
         unload = slice(3 + 2 * n, 3 + n - 1, -1)
-        np.testing.assert_allclose(result.displacement[unload], result.displacement[load], atol=1e-15)
+        np.testing.assert_allclose(
+            result.displacement[unload], result.displacement[load], atol=1e-15
+        )
         fn_l, fn_u = result.normal_force[load], result.normal_force[unload]
         ft_l, ft_u = result.tangential_force[load], result.tangential_force[unload]
         scale = np.abs(fn_l).max()

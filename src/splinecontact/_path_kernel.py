@@ -125,6 +125,8 @@ def path_step(
     nl_z: NDArray[np.float64],
     f_u: NDArray[np.float64],
     gamma_u: NDArray[np.float64],
+    slope_u: NDArray[np.float64],
+    curv_u: NDArray[np.float64],
     flat: bool,
     placement: float,
     dx: float,
@@ -181,17 +183,30 @@ def path_step(
             xi = i - shift
             if xi < 0.0 or xi > n_up - 1:
                 continue
-            k = int(math.floor(xi))
+            k = math.floor(xi)
             if k > n_up - 2:
                 k = n_up - 2
             t = xi - k
-            w = 1.0 - t
-            g0 = gamma_u[k]
-            g1 = gamma_u[k + 1]
-            h_u = w * f_u[k] + t * f_u[k + 1] + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
-            s1 = (f_u[k + 1] - f_u[k] + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
-            s2 = (w * g0 + t * g1) * inv_dx2
-        g = placement - h_u - d - f_l[i]
+            if t == 0.0:  # on a knot: the fitted values themselves
+                h_u = f_u[k]
+                s1 = slope_u[k]
+                s2 = curv_u[k]
+            else:
+                w = 1.0 - t
+                g0 = gamma_u[k]
+                g1 = gamma_u[k + 1]
+                h_u = (
+                    w * f_u[k]
+                    + t * f_u[k + 1]
+                    + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
+                )
+                s1 = (
+                    f_u[k + 1]
+                    - f_u[k]
+                    + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
+                ) * inv_dx
+                s2 = (w * g0 + t * g1) * inv_dx2
+        g = (placement - (h_u + f_l[i])) - d
         if g > 0.0:
             continue
         n_closed += 1

@@ -206,6 +206,13 @@ class SimulationResult:
             data_vars[name] = xr.Variable(
                 ("step",), np.asarray(self.curves[name]), {"units": units, "long_name": description}
             )
+        for name, (units, description) in PATH_STEP_VARIABLES.items():
+            if name in self.curves:
+                data_vars[name] = xr.Variable(
+                    ("step",),
+                    np.asarray(self.curves[name]),
+                    {"units": units, "long_name": description},
+                )
         for name, (units, description) in SCALAR_VARIABLES.items():
             data_vars[name] = xr.Variable(
                 (), float(self.scalars[name]), {"units": units, "long_name": description}
