@@ -50,66 +50,85 @@ def interval_envelope(
 
 
 @numba.njit(cache=True, nogil=True)
+def block_max(values: NDArray[np.float64], block: int) -> NDArray[np.float64]:  # pragma: no cover
+    """Maximum of each run of ``block`` consecutive values."""
+    nb = (values.size + block - 1) // block
+    out = np.empty(nb)
+    for b in range(nb):
+        hi = values[b * block]
+        for i in range(b * block + 1, min(values.size, (b + 1) * block)):
+            if values[i] > hi:
+                hi = values[i]
+        out[b] = hi
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
 def candidate_bounds(
     f_l: NDArray[np.float64],
+    f_l_block: NDArray[np.float64],
     envelope: NDArray[np.float64],
+    envelope_block: NDArray[np.float64],
+    block: int,
     flat: bool,
     offset_lo: int,
     offset_hi: int,
     threshold: float,
     margin: float,
-) -> tuple[NDArray[np.int64], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """Points whose rigid gap can close, and an upper bound of f^l_i + f^u(ξ) for each.
+    out_idx: NDArray[np.int64],
+    out_bound: NDArray[np.float64],
+) -> int:  # pragma: no cover - compiled
+    """Points whose rigid gap can close, in grid order, with an upper bound of f^l_i + f^u(ξ).
 
     For lower point i the upper spline is evaluated on the knot intervals
     k ∈ [i + offset_lo, i + offset_hi] (clipped to the upper body); the bound is f^l_i plus the
-    largest interval envelope there (a sliding-window maximum, O(n)). Only points with
-    bound ≥ ``threshold`` (= C − largest δ_N) are returned.
+    largest interval envelope there. Only points with bound ≥ ``threshold`` (= C − δ_N) are
+    kept. Whole blocks of ``block`` points are first culled with block maxima, so the cost is
+    O(n/block) plus the points near contact.
     """
     n = f_l.size
-    bound = np.empty(n)
-    if flat:
-        for i in range(n):
-            bound[i] = f_l[i] + margin
-    else:
-        m = envelope.size
-        # Monotone deque of interval indices with decreasing envelope values.
-        dq = np.empty(m, dtype=np.int64)
-        head = 0
-        tail = 0
-        next_k = 0
-        for i in range(n):
-            lo = i + offset_lo
-            hi = i + offset_hi
-            if lo < 0:
-                lo = 0
-            if hi > m - 1:
-                hi = m - 1
-            if hi < lo:
-                bound[i] = -np.inf
-                continue
-            while next_k <= hi:
-                while tail > head and envelope[dq[tail - 1]] <= envelope[next_k]:
-                    tail -= 1
-                dq[tail] = next_k
-                tail += 1
-                next_k += 1
-            while head < tail and dq[head] < lo:
-                head += 1
-            bound[i] = f_l[i] + envelope[dq[head]] + margin
     count = 0
-    for i in range(n):
-        if bound[i] >= threshold:
-            count += 1
-    idx = np.empty(count, dtype=np.int64)
-    val = np.empty(count)
-    c = 0
-    for i in range(n):
-        if bound[i] >= threshold:
-            idx[c] = i
-            val[c] = bound[i]
-            c += 1
-    return idx, val
+    nb = f_l_block.size
+    if flat:
+        for b in range(nb):
+            if f_l_block[b] + margin < threshold:
+                continue
+            for i in range(b * block, min(n, (b + 1) * block)):
+                v = f_l[i] + margin
+                if v >= threshold:
+                    out_idx[count] = i
+                    out_bound[count] = v
+                    count += 1
+        return count
+    m = envelope.size
+    for b in range(nb):
+        i0 = b * block
+        i1 = min(n, i0 + block) - 1
+        k_lo = max(0, i0 + offset_lo)
+        k_hi = min(m - 1, i1 + offset_hi)
+        if k_hi < k_lo:
+            continue
+        e_max = -np.inf
+        for kb in range(k_lo // block, k_hi // block + 1):
+            if envelope_block[kb] > e_max:
+                e_max = envelope_block[kb]
+        if f_l_block[b] + e_max + margin < threshold:
+            continue
+        for i in range(i0, i1 + 1):
+            lo = max(0, i + offset_lo)
+            hi = min(m - 1, i + offset_hi)
+            if hi < lo:
+                continue
+            e = envelope[lo]
+            for k in range(lo + 1, hi + 1):
+                if envelope[k] > e:
+                    e = envelope[k]
+            v = f_l[i] + e + margin
+            if v >= threshold:
+                out_idx[count] = i
+                out_bound[count] = v
+                count += 1
+    return count
 
 
 @numba.njit(cache=True, nogil=True)
@@ -133,6 +152,7 @@ def path_step(
     kappa_max: float,
     cand: NDArray[np.int64],
     bound: NDArray[np.float64],
+    descending: bool,
     e_star: float,
     g_star: float,
     mu0: float,
@@ -173,7 +193,9 @@ def path_step(
     n_closed = 0
     for j in range(cand.size):
         if bound[j] < threshold:
-            break
+            if descending:
+                break
+            continue
         i = cand[j]
         if flat:
             h_u = 0.0
@@ -252,8 +274,11 @@ def path_step(
         c_reff[n_c] = 2.0 / k_sum
         n_c += 1
 
-    # Spring migration: the same cell continues its contact; otherwise the nearest vanished,
-    # unclaimed previous contact within `reach` cells (nearest previous centre) is continued.
+    # Spring migration: the same cell continues its contact. Every other accepted contact may
+    # continue a vanished (not accepted again in its own cell) previous contact within `reach`
+    # cells; the pairs are assigned greedily by increasing distance between the previous and the
+    # new centre (independent of the visiting order, hence mirror symmetric).
+    n_pairs = 0
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
@@ -264,19 +289,35 @@ def path_step(
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        best = -1
-        best_dist = np.inf
         for r in range(1, reach + 1):
             for sgn in (-1, 1):
                 q = i + sgn * r
                 if 0 <= q < n and st_acc[q] and not claimed[q]:
-                    dist = abs(st_xc[q] - c_xc[c])
-                    if dist < best_dist:
-                        best_dist = dist
-                        best = q
-        if best >= 0:
-            c_src[c] = best
-            claimed[best] = True
+                    n_pairs += 1
+    if n_pairs > 0:
+        pair_c = np.empty(n_pairs, dtype=np.int64)
+        pair_q = np.empty(n_pairs, dtype=np.int64)
+        pair_d = np.empty(n_pairs)
+        p = 0
+        for c in range(n_c):
+            if c_src[c] >= 0:
+                continue
+            i = c_idx[c]
+            for r in range(1, reach + 1):
+                for sgn in (-1, 1):
+                    q = i + sgn * r
+                    if 0 <= q < n and st_acc[q] and not claimed[q]:
+                        pair_c[p] = c
+                        pair_q[p] = q
+                        pair_d[p] = abs(st_xc[q] - c_xc[c])
+                        p += 1
+        order = np.argsort(pair_d, kind="mergesort")
+        for o in order:
+            c = pair_c[o]
+            q = pair_q[o]
+            if c_src[c] < 0 and not claimed[q]:
+                c_src[c] = q
+                claimed[q] = True
     for c in range(n_c):
         if c_src[c] >= 0:
             claimed[c_src[c]] = False
@@ -349,3 +390,131 @@ def path_step(
         tilted,
         n_closed,
     )
+
+
+@numba.njit(cache=True, nogil=True)
+def run_steps(
+    u_a: float,
+    d_a: float,
+    u_b: float,
+    d_b: float,
+    n_steps: int,
+    s_first: int,
+    s_last: int,
+    u_prev: float,
+    d_prev: float,
+    chunk_cells: float,
+    f_l: NDArray[np.float64],
+    kappa_l: NDArray[np.float64],
+    nl_x: NDArray[np.float64],
+    nl_z: NDArray[np.float64],
+    f_u: NDArray[np.float64],
+    gamma_u: NDArray[np.float64],
+    slope_u: NDArray[np.float64],
+    curv_u: NDArray[np.float64],
+    flat: bool,
+    placement: float,
+    dx: float,
+    kappa_max: float,
+    f_l_block: NDArray[np.float64],
+    envelope: NDArray[np.float64],
+    envelope_block: NDArray[np.float64],
+    block: int,
+    margin: float,
+    buf_idx: NDArray[np.int64],
+    buf_bound: NDArray[np.float64],
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    st_acc: NDArray[np.bool_],
+    st_ft: NDArray[np.float64],
+    st_xc: NDArray[np.float64],
+    st_ex: NDArray[np.float64],
+    st_ez: NDArray[np.float64],
+    st_list: NDArray[np.int64],
+    st_count: NDArray[np.int64],
+    claimed: NDArray[np.bool_],
+    c_idx: NDArray[np.int64],
+    c_fn: NDArray[np.float64],
+    c_ex: NDArray[np.float64],
+    c_ez: NDArray[np.float64],
+    c_xc: NDArray[np.float64],
+    c_z: NDArray[np.float64],
+    c_delta: NDArray[np.float64],
+    c_reff: NDArray[np.float64],
+    c_ft: NDArray[np.float64],
+    c_slip: NDArray[np.bool_],
+    c_src: NDArray[np.int64],
+    out: NDArray[np.float64],
+    k0: int,
+) -> None:  # pragma: no cover - compiled
+    """Steps ``s_first … s_last`` of a displacement-controlled segment, committed in order.
+
+    Step s is at u = u_a + (u_b − u_a)·s/n_steps and δ_N = d_a + (d_b − d_a)·s/n_steps (exactly
+    u_b, d_b at s = n_steps). Without tangential motion one candidate list, sorted by decreasing
+    bound, serves all steps (each step visits the points whose gap can have closed); otherwise
+    the list is rebuilt, in grid order, every ``chunk_cells`` grid spacings of travel. ``out``
+    receives, per step (row k0 + s − s_first), δ_N, u_T and the 10 sums of :func:`path_step`.
+    """
+    moving = u_b != u_a
+    if moving:
+        per_chunk = int(chunk_cells * n_steps / (abs(u_b - u_a) / dx))
+        if per_chunk < 1:
+            per_chunk = 1
+    else:
+        per_chunk = n_steps + 1
+    count = 0
+    built_until = -1
+    cand = buf_idx[:0]
+    bound = buf_bound[:0]
+    u_cur = u_prev
+    d_cur = d_prev
+    for s in range(s_first, s_last + 1):
+        if s > built_until:
+            s_end = min(n_steps, s + per_chunk - 1)
+            u_s = u_a + (u_b - u_a) * ((s - 1) / n_steps)
+            u_e = u_b if s_end == n_steps else u_a + (u_b - u_a) * (s_end / n_steps)
+            d_s = d_a + (d_b - d_a) * ((s - 1) / n_steps)
+            d_e = d_b if s_end == n_steps else d_a + (d_b - d_a) * (s_end / n_steps)
+            u_lo = min(u_s, u_e, u_cur)
+            u_hi = max(u_s, u_e, u_cur)
+            d_max = max(d_s, d_e)
+            count = candidate_bounds(
+                f_l, f_l_block, envelope, envelope_block, block, flat,
+                math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
+                placement - d_max, margin, buf_idx, buf_bound,
+            )  # fmt: skip
+            if moving:
+                cand = buf_idx[:count]
+                bound = buf_bound[:count]
+            else:
+                order = np.argsort(-buf_bound[:count], kind="mergesort")
+                cand = buf_idx[:count][order]
+                bound = buf_bound[:count][order]
+            built_until = s_end
+        u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
+        d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
+        du = u - u_cur
+        dd = d - d_cur
+        reach = 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / dx), f_l.size))
+        sums = path_step(
+            u, d, du, dd, True, f_l, kappa_l, nl_x, nl_z, f_u, gamma_u, slope_u, curv_u, flat,
+            placement, dx, kappa_max, cand, bound, not moving, e_star, g_star, mu0, reach,
+            st_acc, st_ft, st_xc, st_ex, st_ez, st_list, st_count, claimed,
+            c_idx, c_fn, c_ex, c_ez, c_xc, c_z, c_delta, c_reff, c_ft, c_slip, c_src,
+        )  # fmt: skip
+        row = k0 + s - s_first
+        out[row, 0] = d
+        out[row, 1] = u
+        out[row, 2] = sums[0]
+        out[row, 3] = sums[1]
+        out[row, 4] = sums[2]
+        out[row, 5] = sums[3]
+        out[row, 6] = sums[4]
+        out[row, 7] = sums[5]
+        out[row, 8] = sums[6]
+        out[row, 9] = sums[7]
+        out[row, 10] = sums[8]
+        out[row, 11] = sums[9]
+        u_cur = u
+        d_cur = d

@@ -45,8 +45,11 @@ __all__ = [
 #: Relative tolerance to which a force-controlled step meets its target F_N.
 FORCE_RTOL = 1e-9
 
-#: Largest tangential travel per candidate-list rebuild, in grid spacings.
-_CHUNK_CELLS = 32
+#: Block size [points] of the candidate culling.
+_BLOCK = 64
+
+#: Tangential travel [grid spacings] served by one candidate list.
+_CHUNK_CELLS = 4
 
 
 class LoadPathError(ParameterError):
@@ -165,6 +168,8 @@ class _Geometry:
     slope_u: NDArray[np.float64]
     curv_u: NDArray[np.float64]
     envelope: NDArray[np.float64]
+    f_l_block: NDArray[np.float64]
+    envelope_block: NDArray[np.float64]
     flat: bool
     placement: float
     dx: float
@@ -185,6 +190,8 @@ class _State:
         self.list = np.zeros(n, dtype=np.int64)
         self.count = np.zeros(1, dtype=np.int64)
         self.claimed = np.zeros(n, dtype=np.bool_)
+        self.cand_idx = np.empty(n, dtype=np.int64)
+        self.cand_bound = np.empty(n)
         self.capacity = 0
         self.scratch: tuple[NDArray[Any], ...] = ()
         self.ensure(16)
@@ -209,20 +216,23 @@ class _State:
 
 
 class _Candidates:
-    """Points that can touch while u_T stays in [u_lo, u_hi] and δ_N ≤ d_max."""
+    """Points that can touch at shift u_T = u and δ_N ≤ d_max, in grid order.
 
-    def __init__(self, geo: _Geometry, u_lo: float, u_hi: float, d_max: float) -> None:
-        self.u_lo = u_lo
-        self.u_hi = u_hi
+    Rebuilt at every step (block culling makes that O(n/64) plus the points near contact); the
+    arrays are views of buffers shared by the run, valid until the next rebuild.
+    """
+
+    def __init__(self, geo: _Geometry, state: _State, u: float, d_max: float) -> None:
+        self.u = u
         self.d_max = d_max
-        off_lo = math.floor(-u_hi / geo.dx) - 1
-        off_hi = math.floor(-u_lo / geo.dx) + 1
-        idx, val = _k.candidate_bounds(
-            geo.f_l, geo.envelope, geo.flat, off_lo, off_hi, geo.placement - d_max, geo.margin
-        )
-        order = np.argsort(-val, kind="stable")
-        self.idx = idx[order]
-        self.bound = val[order]
+        centre = math.floor(-u / geo.dx)
+        count = _k.candidate_bounds(
+            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.flat,
+            centre - 1, centre + 1, geo.placement - d_max, geo.margin,
+            state.cand_idx, state.cand_bound,
+        )  # fmt: skip
+        self.idx = state.cand_idx[:count]
+        self.bound = state.cand_bound[:count]
 
 
 def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geometry:
@@ -256,6 +266,8 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         slope_u=slope_u,
         curv_u=curv_u,
         envelope=envelope,
+        f_l_block=_k.block_max(f_l, _BLOCK),
+        envelope_block=_k.block_max(envelope, _BLOCK),
         flat=flat,
         placement=placement,
         dx=dx,
@@ -283,11 +295,42 @@ def _step(
         u, d, du, dd, commit,
         geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
         geo.curv_u, geo.flat,
-        geo.placement, geo.dx, geo.kappa_max, cands.idx, cands.bound,
+        geo.placement, geo.dx, geo.kappa_max, cands.idx, cands.bound, False,
         e_star, g_star, mu0, reach,
         state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
         state.claimed, *state.scratch,
     )  # fmt: skip
+
+
+def _run(
+    geo: _Geometry,
+    state: _State,
+    material: tuple[float, float, float],
+    u_a: float,
+    d_a: float,
+    u_b: float,
+    d_b: float,
+    n_steps: int,
+    s_first: int,
+    s_last: int,
+    u_prev: float,
+    d_prev: float,
+    table: NDArray[np.float64],
+    row: int,
+) -> None:
+    """Compiled steps s_first … s_last of a displacement-controlled segment into ``table``."""
+    e_star, g_star, mu0 = material
+    state.ensure(geo.f_l.size)
+    args: tuple[Any, ...] = (
+        u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
+        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
+        geo.curv_u, geo.flat, geo.placement, geo.dx, geo.kappa_max, geo.f_l_block,
+        geo.envelope, geo.envelope_block, _BLOCK, geo.margin, state.cand_idx, state.cand_bound,
+        e_star, g_star, mu0,
+        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
+        state.claimed, *state.scratch, table, row,
+    )  # fmt: skip
+    _k.run_steps(*args)
 
 
 _NAMES = (
@@ -419,12 +462,6 @@ def run_path(
     geo = _prepare(lower, fit_l, fit_u)
     n = geo.f_l.size
     total = 1 + sum(s.steps for s in segments)
-    out: dict[str, NDArray[Any]] = {
-        name: np.zeros(total, dtype=np.int64 if name.startswith("n_") else np.float64)
-        for name in _NAMES
-    }
-    disp = np.zeros(total)
-    tang = np.zeros(total)
     target = np.full(total, np.nan)
     record = np.zeros(total, dtype=np.bool_)
     if record_steps is not None and len(record_steps):
@@ -434,88 +471,93 @@ def run_path(
     state = _State(n)
     dx = geo.dx
 
-    def store(k: int, values: tuple[Any, ...]) -> None:
-        for name, value in zip(_NAMES, values, strict=True):
-            out[name][k] = value
-        if record[k]:
-            m = int(values[3])
-            s = state.scratch
-            idx = s[0][:m].copy()
-            contacts.append(
-                ContactRecord(
-                    step=k,
-                    point=idx,
-                    x=lower.x[idx] + (s[4][:m] - idx * dx),
-                    z=s[5][:m].copy(),
-                    overlap=s[6][:m].copy(),
-                    effective_radius=s[7][:m].copy(),
-                    normal_force=s[1][:m].copy(),
-                    tangential_force=s[8][:m].copy(),
-                    normal_x=s[2][:m].copy(),
-                    normal_z=s[3][:m].copy(),
-                    slipping=s[9][:m].copy(),
-                )
+    # Per step: δ_N, u_T and the sums of _path_kernel.path_step (see _NAMES).
+    table = np.zeros((total, 2 + len(_NAMES)))
+
+    def store_contacts(k: int, m: int) -> None:
+        s = state.scratch
+        idx = s[0][:m].copy()
+        contacts.append(
+            ContactRecord(
+                step=k,
+                point=idx,
+                x=lower.x[idx] + (s[4][:m] - idx * dx),
+                z=s[5][:m].copy(),
+                overlap=s[6][:m].copy(),
+                effective_radius=s[7][:m].copy(),
+                normal_force=s[1][:m].copy(),
+                tangential_force=s[8][:m].copy(),
+                normal_x=s[2][:m].copy(),
+                normal_z=s[3][:m].copy(),
+                slipping=s[9][:m].copy(),
             )
+        )
+
+    def store(k: int, d: float, u: float, values: tuple[Any, ...]) -> None:
+        table[k, 0] = d
+        table[k, 1] = u
+        table[k, 2:] = values
+        if record[k]:
+            store_contacts(k, int(values[3]))
 
     # Step 0: zero minimum gap, no shift.
-    first = _Candidates(geo, 0.0, 0.0, 0.0)
-    store(0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True, material))
+    first = _Candidates(geo, state, 0.0, 0.0)
+    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True, material))
     k = 0
     u_cur = 0.0
     d_cur = 0.0
+    margin = 1e-3 * geo.scale  # extra δ_N range of a force-controlled step's candidates
     for seg in segments:
         u_a, d_a = u_cur, d_cur
         u_b = u_a if seg.tangential is None else float(seg.tangential)
         n_steps = seg.steps
-        cells = abs(u_b - u_a) / dx
-        per_chunk = max(1, int(n_steps * _CHUNK_CELLS / cells)) if cells > 0 else n_steps
         force = seg.normal_force
         d_target = d_a if seg.normal is None else float(seg.normal)
-        d_limit = 0.0
-        cands: _Candidates | None = None
+        if force is None:
+            # Compiled runs between recorded steps; a recorded step runs alone so that its
+            # contacts can be read from the scratch arrays.
+            s = 1
+            while s <= n_steps:
+                rec = np.flatnonzero(record[k + s : k + n_steps + 1])
+                if rec.size and rec[0] == 0:
+                    s_last = s
+                else:
+                    s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
+                _run(geo, state, material, u_a, d_a, u_b, d_target, n_steps, s, s_last,
+                     u_cur, d_cur, table, k + s)  # fmt: skip
+                if record[k + s_last]:
+                    store_contacts(k + s_last, int(table[k + s_last, 5]))
+                u_cur, d_cur = table[k + s_last, 1], table[k + s_last, 0]
+                s = s_last + 1
+            k += n_steps
+            continue
         for s in range(1, n_steps + 1):
             u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
-            if cands is None or (s - 1) % per_chunk == 0:
-                s_end = min(n_steps, s - 1 + per_chunk)
-                u_end = u_b if s_end == n_steps else u_a + (u_b - u_a) * (s_end / n_steps)
-                u_start = u_a + (u_b - u_a) * ((s - 1) / n_steps)
-                u_lo, u_hi = min(u_start, u_end), max(u_start, u_end)
-                if force is None:
-                    d_lo = d_a + (d_target - d_a) * ((s - 1) / n_steps)
-                    d_hi = (
-                        d_target
-                        if s_end == n_steps
-                        else (d_a + (d_target - d_a) * (s_end / n_steps))
-                    )
-                    d_limit = max(d_lo, d_hi)
-                else:
-                    d_limit = max(d_limit, d_cur + 0.05 * geo.scale)
-                cands = _Candidates(geo, u_lo, u_hi, d_limit)
             du = u - u_cur
-            if force is None:
-                d = d_target if s == n_steps else d_a + (d_target - d_a) * (s / n_steps)
-                values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
-            else:
-                chunk = cands
+            cands = _Candidates(geo, state, u, d_cur + margin)
 
-                def evaluate(
-                    trial: float, _u: float = u, _du: float = du, _d0: float = d_cur
-                ) -> tuple[Any, ...]:
-                    nonlocal chunk
-                    if trial > chunk.d_max:
-                        chunk = _Candidates(geo, chunk.u_lo, chunk.u_hi, trial + 0.05 * geo.scale)
-                    return _step(geo, chunk, state, _u, trial, _du, trial - _d0, False, material)
+            def evaluate(
+                trial: float, _u: float = u, _du: float = du, _d0: float = d_cur
+            ) -> tuple[Any, ...]:
+                nonlocal cands
+                if trial > cands.d_max:
+                    cands = _Candidates(geo, state, _u, trial + margin)
+                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False, material)
 
-                d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
-                cands = chunk
-                d_limit = cands.d_max
-                values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
-                target[k + 1] = force
+            d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
+            if d > cands.d_max:
+                cands = _Candidates(geo, state, u, d + margin)
+            values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
+            target[k + 1] = force
             k += 1
-            disp[k] = d
-            tang[k] = u
-            store(k, values)
+            store(k, d, u, values)
             u_cur, d_cur = u, d
+    disp = table[:, 0].copy()
+    tang = table[:, 1].copy()
+    out = {
+        name: table[:, 2 + j].astype(np.int64) if name.startswith("n_") else table[:, 2 + j].copy()
+        for j, name in enumerate(_NAMES)
+    }
     held = np.isfinite(target)
     if held.any():
         miss = np.abs(out["normal_force"][held] - target[held]) / target[held]
