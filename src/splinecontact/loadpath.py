@@ -37,6 +37,7 @@ __all__ = [
     "ForceControlError",
     "LoadPathError",
     "Segment",
+    "parse_path",
     "run_path",
     "simulate_path",
     "validate_path",
@@ -669,3 +670,54 @@ def simulate_path(
         lower_metadata=dict(lower.metadata),
         upper_metadata={"source": "flat"} if flat else dict(upper.metadata),  # type: ignore[union-attr]
     )
+
+
+_SPEC_KEYS = {"normal": "normal", "force": "normal_force", "normal_force": "normal_force",
+              "tangential": "tangential", "steps": "steps"}  # fmt: skip
+
+
+def parse_path(text: str) -> tuple[Segment, ...]:
+    """A load path from text: segments separated by ``;``, each ``key=value`` pairs by ``,``.
+
+    Keys: ``normal`` (δ_N [µm]), ``force`` or ``normal_force`` (F_N [mN/µm]), ``tangential``
+    (u_T [µm]) and ``steps`` [1], e.g. ``"normal=0.001,steps=200; tangential=0.02,steps=400"``.
+
+    Raises
+    ------
+    LoadPathError
+        Empty text, an unknown key, a repeated key, a value that is not a number, or a bad
+        segment (see :class:`Segment`).
+    """
+    parts = [p.strip() for p in text.split(";")]
+    if not any(parts):
+        raise LoadPathError(f"path {text!r} is empty: give e.g. 'normal=0.001,steps=200'")
+    segments = []
+    for index, part in enumerate(parts):
+        if not part:
+            raise LoadPathError(f"path {text!r}: segment {index} is empty (stray ';')")
+        kwargs: dict[str, Any] = {}
+        for item in part.split(","):
+            key, sep, value = item.partition("=")
+            key = key.strip().lower()
+            if not sep or key not in _SPEC_KEYS:
+                raise LoadPathError(
+                    f"path segment {index} {part!r}: {item.strip()!r} is not key=value with key "
+                    "normal, force, tangential or steps"
+                )
+            name = _SPEC_KEYS[key]
+            if name in kwargs:
+                raise LoadPathError(f"path segment {index} {part!r}: {key} given twice")
+            try:
+                kwargs[name] = int(value) if name == "steps" else float(value)
+            except ValueError:
+                raise LoadPathError(
+                    f"path segment {index} {part!r}: {key} = {value.strip()!r} is not "
+                    + ("an integer" if name == "steps" else "a number")
+                ) from None
+        if "steps" not in kwargs:
+            raise LoadPathError(f"path segment {index} {part!r}: give steps=N")
+        try:
+            segments.append(Segment(**kwargs))
+        except LoadPathError as exc:
+            raise LoadPathError(f"path segment {index} {part!r}: {exc}") from None
+    return tuple(segments)
