@@ -211,3 +211,21 @@ def test_force_control_on_a_rough_pair_records_its_misses() -> None:
         assert any(f"at {n_miss} of {held.sum()}" in m for m in messages)
     else:
         assert not messages
+
+
+def test_friction_study_ensemble_on_a_flat_gives_mu0_and_the_spring_ratio() -> None:
+    from splinecontact.friction import friction_study
+
+    ds = friction_study([1.4, 1.6], [1, 2], flat=True, n_points=4000, length=0.4, travel=0.01)
+    assert ds["mu_s"].dims == ("dimension", "realization")
+    for name in ds.data_vars:
+        assert "units" in ds[name].attrs, name
+    np.testing.assert_allclose(ds["mu_s"].values, 0.3, rtol=1e-12)
+    np.testing.assert_allclose(ds["mu_s_ci"].values, 0.0, atol=1e-12)
+    assert np.all(ds["dilatancy"].values == 0.0)
+    assert np.all(ds["force_held"].values == 1.0)
+    # k_N also counts contacts closing during the increment, so k_T/k_N ≤ G*/((π/4)E*).
+    ratio = spring_slider_stiffness_ratio(10.0, 10.0 / 2.6)
+    assert np.all(ds["stiffness_ratio"].values <= ratio * (1 + 1e-12))
+    assert np.all(ds["stiffness_ratio"].values > 0.8 * ratio)
+    assert np.all(ds["dissipation"].values > 0)

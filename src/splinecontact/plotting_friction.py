@@ -58,3 +58,33 @@ def plot_path_history(result: SimulationResult, ax: Axes | None = None) -> Axes:
     lines = ax.get_lines() + right.get_lines()
     ax.legend(lines, [str(line.get_label()) for line in lines], loc="best")
     return ax
+
+
+def plot_study_vs_dimension(
+    studies: dict[str, Any], name: str = "mu_s", ax: Axes | None = None
+) -> Axes:
+    """Ensemble mean of a :func:`splinecontact.friction.friction_study` variable against D.
+
+    Parameters
+    ----------
+    studies : dict of str to xarray.Dataset
+        Label (e.g. "rough-on-rough") -> result of ``friction_study``.
+    name : str
+        Variable of ``STUDY_VARIABLES``; the band is its confidence interval.
+    ax : matplotlib Axes, optional
+        Axes to draw on.
+    """
+    ax = new_axes(ax)
+    units = ""
+    for label, ds in studies.items():
+        d = ds["dimension"].values
+        mean = ds[f"{name}_mean"].values
+        ci = ds[f"{name}_ci"].values
+        (line,) = ax.plot(d, mean, "o-", label=label)
+        ax.fill_between(d, mean - ci, mean + ci, color=line.get_color(), alpha=0.2, lw=0)
+        units = ds[name].attrs.get("units", "")
+        level = ds.attrs.get("confidence", 0.95)
+    ax.set_xlabel("fractal dimension D [1]")
+    ax.set_ylabel(f"{name} [{units}]  (band: {level:.0%} CI of the mean)")
+    ax.legend()
+    return ax
