@@ -7,8 +7,9 @@ force resisting a motion toward +x is negative. Stiffnesses are per µm of out-o
 * μ_s — static friction coefficient: max |F_T|/F_N over the first segment that moves the upper body
   tangentially (steps with F_N > 0). Global sliding onset is the first step of that segment at
   which every accepted contact slips.
-* k_T = −dF_T/du_T at the start of the first tangential segment (first increment), k_N = dF_N/dδ_N
-  at its start (last increment before it), and their ratio. For comparison: Mindlin's
+* k_T = −dF_T/du_T at the start of the first tangential segment, k_N = dF_N/dδ_N just
+  before it (first differences, or least-squares slopes over several increments), and their
+  ratio. For comparison: Mindlin's
   k_T/k_N = 2(1 − ν)/(2 − ν) for two identical elastic bodies (0.824 at ν = 0.3); the SAD model of
   one stuck contact on a flat has k_T/k_N = G*/((π/4)E*) (0.490 with the default G* = E*/2.6).
 * Dissipation over a step range: the increase of ``dissipated_work`` (Σ slip × capped force).
@@ -118,28 +119,54 @@ def static_friction(result: SimulationResult) -> StaticFriction:
     return StaticFriction(mu_s=float(ratio[k]), step=a + 1 + k, onset_step=onset, segment=index)
 
 
-def tangential_stiffness(result: SimulationResult) -> float:
-    """k_T = −ΔF_T/Δu_T [GPa] over the first increment of the first tangential segment."""
-    _, a, _ = _first_tangential(result)
-    u = np.asarray(result.curves["tangential_displacement"])
-    ft = np.asarray(result.curves["tangential_force"])
-    return float(-(ft[a + 1] - ft[a]) / (u[a + 1] - u[a]))
+def _slope(x: Any, y: Any) -> float:
+    """Least-squares slope dy/dx."""
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    dx = x - x.mean()
+    return float(np.sum(dx * (y - y.mean())) / np.sum(dx * dx))
 
 
-def normal_stiffness(result: SimulationResult, step: int | None = None) -> float:
-    """k_N = ΔF_N/Δδ_N [GPa] over the increment ending at ``step``.
+def tangential_stiffness(result: SimulationResult, increments: int = 1) -> float:
+    """k_T = −dF_T/du_T [GPa] at the start of the first tangential segment.
 
-    Default ``step``: the start of the first tangential segment.
+    Parameters
+    ----------
+    result : SimulationResult
+        A load-path result.
+    increments : int
+        Number of its first increments [1] over which the slope is fitted (least squares
+        through the segment's start and these steps); 1 is the first difference.
+    """
+    _, a, b = _first_tangential(result)
+    if not 1 <= increments <= b - a:
+        raise FrictionAnalysisError(
+            f"increments = {increments!r}: the first tangential segment has {b - a} increments"
+        )
+    u = np.asarray(result.curves["tangential_displacement"])[a : a + increments + 1]
+    ft = np.asarray(result.curves["tangential_force"])[a : a + increments + 1]
+    return -_slope(u, ft)
+
+
+def normal_stiffness(
+    result: SimulationResult, step: int | None = None, increments: int = 1
+) -> float:
+    """k_N = dF_N/dδ_N [GPa] over the ``increments`` increments ending at ``step``.
+
+    Default ``step``: the start of the first tangential segment. With more than one increment
+    the slope is a least-squares fit through the ``increments + 1`` steps.
     """
     if step is None:
         _, step, _ = _first_tangential(result)
     d = np.asarray(result.curves["displacement"])
     fn = np.asarray(result.curves["normal_force"])
-    if not 1 <= step < d.size or d[step] == d[step - 1]:
+    lo = step - increments
+    if increments < 1 or lo < 0 or step >= d.size or np.ptp(d[lo : step + 1]) == 0:
         raise FrictionAnalysisError(
-            f"step {step}: k_N needs a normal increment ending at this step (δ_N must change)"
+            f"step {step}, increments {increments}: k_N needs normal increments ending at this "
+            "step (δ_N must change)"
         )
-    return float((fn[step] - fn[step - 1]) / (d[step] - d[step - 1]))
+    return _slope(d[lo : step + 1], fn[lo : step + 1])
 
 
 def mindlin_stiffness_ratio(poisson: float = 0.3) -> float:
@@ -208,8 +235,8 @@ def dilatancy(result: SimulationResult, segment: int) -> float:
 #: Per-realisation quantities of :func:`friction_study`: name -> (units, description).
 STUDY_VARIABLES: dict[str, tuple[str, str]] = {
     "mu_s": ("1", "static friction coefficient max|F_T|/F_N while sliding at constant F_N"),
-    "k_t": ("GPa", "tangential stiffness −dF_T/du_T at u_T = 0 (displacement control)"),
-    "k_n": ("GPa", "normal stiffness dF_N/dδ_N just before sliding"),
+    "k_t": ("GPa", "tangential stiffness −dF_T/du_T at u_T = 0 (first increment)"),
+    "k_n": ("GPa", "normal stiffness dF_N/dδ_N just before sliding (fit over 20 increments)"),
     "stiffness_ratio": ("1", "k_T/k_N"),
     "dissipation": ("mN·µm/µm", "frictional work dissipated over one full cycle at constant F_N"),
     "dilatancy": ("µm", "rise of the upper body over the first slide at constant F_N"),
@@ -240,7 +267,9 @@ def friction_study(
     ``load_fraction`` × the lower peak-to-valley height in ``normal_steps`` steps; F_N reached
     there is then held while the upper body slides +travel, −travel, +travel
     (``tangential_steps``, 2×, 2× steps). k_T and k_N come from a separate run whose first
-    tangential increment is travel/1000 at constant δ_N.
+    tangential increment is travel/1000 at constant δ_N: k_T is the first difference there (the
+    derivative at u_T = 0), k_N the least-squares slope of F_N(δ_N) over the last 20 normal
+    increments (single normal increments are dominated by contacts appearing or vanishing).
 
     Parameters
     ----------
@@ -315,7 +344,7 @@ def friction_study(
             held = np.isfinite(np.asarray(result.curves["normal_force_target"]))
             fn = np.asarray(result.curves["normal_force"])[held]
             k_t = tangential_stiffness(first)
-            k_n = normal_stiffness(first)
+            k_n = normal_stiffness(first, increments=min(20, normal_steps))
             row = {
                 "mu_s": static_friction(result).mu_s,
                 "k_t": k_t,
