@@ -32,10 +32,6 @@ __all__ = [
 #: Per-step variables: name -> (units, description). Forces are per µm of out-of-plane thickness.
 STEP_VARIABLES: dict[str, tuple[str, str]] = {
     "displacement": ("µm", "normal displacement δ_N of the upper body from first contact"),
-    "tangential_displacement": (
-        "µm",
-        "tangential displacement u_T of the upper body along +x (0 for a normal loading)",
-    ),
     "normal_force": ("mN/µm", "global normal force F_N on the upper body (eq. 14)"),
     "tangential_force": ("mN/µm", "global tangential force F_T on the upper body (eq. 14)"),
     "contact_area": ("µm", "contact area A_S = Σ √(δ_i R_eff,i) per unit thickness (eq. 10)"),
@@ -50,8 +46,13 @@ STEP_VARIABLES: dict[str, tuple[str, str]] = {
     "n_candidates": ("1", "points whose gap has closed (detection, z^u ≤ z^l)"),
 }
 
-#: Per-step variables of a load path (``simulate(..., path=...)``) only.
+#: Per-step variables written when present in the curves: ``tangential_displacement`` (every
+#: ``simulate`` result) and the load-path variables of ``simulate(..., path=...)``.
 PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = {
+    "tangential_displacement": (
+        "µm",
+        "tangential displacement u_T of the upper body along +x (0 for a normal loading)",
+    ),
     "n_slipping": ("1", "accepted contacts whose tangential force is capped at μ0|F^n| (slip)"),
     "dissipated_work": (
         "mN·µm/µm",
