@@ -69,6 +69,11 @@ def test_path_and_final_displacement_conflict() -> None:
         simulate(_circle(), "flat", final_displacement=1e-3, path=[Segment(normal=1e-3, steps=2)])
 
 
+def test_path_and_steps_conflict() -> None:
+    with pytest.raises(LoadPathError, match="steps = 50 and path were both given"):
+        simulate(_circle(), "flat", steps=50, path=[Segment(normal=1e-3, steps=2)])
+
+
 def test_unreachable_force_is_refused() -> None:
     """Two cups never make a contact (Table 1): no δ_N carries a force."""
     x = np.arange(-200, 201) * ANGSTROM

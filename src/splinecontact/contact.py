@@ -688,7 +688,7 @@ def simulate(
         from .loadpath import simulate_path
 
         return simulate_path(
-            lower, upper, path, final_displacement=final_displacement, e_star=e_star,
+            lower, upper, path, steps=steps, final_displacement=final_displacement, e_star=e_star,
             g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, record_contacts=record_contacts,
         )  # fmt: skip
     record_steps = _record_steps(record_contacts, steps)

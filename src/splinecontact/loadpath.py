@@ -595,6 +595,7 @@ def simulate_path(
     upper: Profile | Literal["flat"],
     path: Sequence[Segment],
     *,
+    steps: int = 1000,
     final_displacement: float | None,
     e_star: float,
     g_star: float,
@@ -606,7 +607,8 @@ def simulate_path(
     """``simulate(lower, upper, path=...)`` with validated material parameters.
 
     Parameters are those of :func:`splinecontact.simulate` (E*, G* [GPa], μ0 [1], α [1],
-    x0 [µm]); ``final_displacement`` must be ``None`` (the path sets the displacements).
+    x0 [µm]); ``steps`` must keep its default 1000 and ``final_displacement`` must be ``None``
+    (the path's segments set both).
     """
     from .contact import _record_steps, contact_geometry
 
@@ -615,6 +617,11 @@ def simulate_path(
         raise LoadPathError(
             f"final_displacement = {final_displacement!r} µm and path were both given: the path "
             "sets the displacements; drop final_displacement"
+        )
+    if steps != 1000:
+        raise LoadPathError(
+            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
+            "drop steps"
         )
     flat = isinstance(upper, str)
     if flat and upper != "flat":
