@@ -33,7 +33,7 @@ def _pair(dimension: float, seed: int) -> tuple[Profile, Profile]:
     return weierstrass_mandelbrot_pair(dimension, seed=seed, n_points=3000, length=0.3)
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(
     dimension=st.floats(1.1, 1.9),
     seed=st.integers(0, 10_000),
@@ -82,7 +82,7 @@ def test_mirror_symmetry_of_a_symmetric_pair_is_exact_in_u() -> None:
     assert np.abs(a.tangential_force).max() > 1e-3 * scale
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(
     dimension=st.floats(1.1, 1.9),
     seed=st.integers(0, 10_000),
