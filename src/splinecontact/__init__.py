@@ -15,6 +15,7 @@ from .contact import simulate
 from .errors import *  # noqa: F403
 from .errors import __all__ as _errors_all
 from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
+from .loadpath import Segment
 from .profile import Profile
 from .results import ContactRecord, SimulationResult
 from .spheres import SurfaceSpheres, surface_spheres
@@ -23,6 +24,7 @@ from .spline import SplineFit, fit_spline
 __all__ = [
     "ContactRecord",
     "Profile",
+    "Segment",
     "SimulationResult",
     "SplineFit",
     "SurfaceSpheres",

@@ -32,9 +32,9 @@ close, so step k visits exactly the c_k candidates of that step (Σ_k c_k in tot
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numba
 import numpy as np
@@ -45,6 +45,9 @@ from .profile import UNIFORM_GRID_RTOL, Profile
 from .results import ContactRecord, SimulationResult
 from .spheres import own_frame_geometry
 from .spline import SplineFit, fit_spline
+
+if TYPE_CHECKING:
+    from .loadpath import Segment
 
 __all__ = [
     "SIMULATION_PARAMETERS",
@@ -552,6 +555,7 @@ def run_loading(
     )  # fmt: skip
     curves: dict[str, NDArray[Any]] = {
         "displacement": geometry.displacement,
+        "tangential_displacement": np.zeros_like(geometry.displacement),
         "normal_force": fn,
         "tangential_force": ft,
         "contact_area": area,
@@ -616,6 +620,7 @@ def simulate(
     alpha: float = 2.0,
     x0: float = 1.0,
     record_contacts: Iterable[int] | str | None = None,
+    path: Sequence[Segment] | None = None,
 ) -> SimulationResult:
     """Press two rough bodies (or a rough body and a rigid flat) together by SAD.
 
@@ -650,6 +655,10 @@ def simulate(
         Spline unit length x0 [µm] (eqs. 2–3; paper: 1 µm).
     record_contacts : iterable of int, "all", "last" or None, optional
         Steps at which to keep every accepted contact (for plots such as Fig. 9).
+    path : sequence of Segment, optional
+        A load path of normal [µm] or force-controlled [mN/µm] and tangential [µm] segments
+        (:class:`splinecontact.Segment`, see ``docs/friction.md``). Replaces ``steps`` and
+        ``final_displacement``; without it the run is the single normal loading above.
 
     Returns
     -------
@@ -675,6 +684,13 @@ def simulate(
     mu0 = _check_positive("mu0", mu0, "", allow_zero=True)
     _check_positive("alpha", alpha, "")
     _check_positive("x0", x0, " µm")
+    if path is not None:
+        from .loadpath import simulate_path
+
+        return simulate_path(
+            lower, upper, path, steps=steps, final_displacement=final_displacement, e_star=e_star,
+            g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, record_contacts=record_contacts,
+        )  # fmt: skip
     record_steps = _record_steps(record_contacts, steps)
 
     geometry, stats = contact_geometry(

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the pac
 
 __all__ = [
     "CONTACT_VARIABLES",
+    "PATH_STEP_VARIABLES",
     "SCALAR_VARIABLES",
     "STEP_VARIABLES",
     "ContactRecord",
@@ -43,6 +44,24 @@ STEP_VARIABLES: dict[str, tuple[str, str]] = {
         "accepted contacts whose repulsive direction points below horizontal (e_z < 0)",
     ),
     "n_candidates": ("1", "points whose gap has closed (detection, z^u ≤ z^l)"),
+}
+
+#: Per-step variables written when present in the curves: ``tangential_displacement`` (every
+#: ``simulate`` result) and the load-path variables of ``simulate(..., path=...)``.
+PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = {
+    "tangential_displacement": (
+        "µm",
+        "tangential displacement u_T of the upper body along +x (0 for a normal loading)",
+    ),
+    "n_slipping": ("1", "accepted contacts whose tangential force is capped at μ0|F^n| (slip)"),
+    "dissipated_work": (
+        "mN·µm/µm",
+        "frictional work dissipated since step 0, Σ slip × capped force (nJ per µm thickness)",
+    ),
+    "normal_force_target": (
+        "mN/µm",
+        "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
+    ),
 }
 
 #: Per-simulation scalar variables: name -> (units, description).
@@ -73,6 +92,7 @@ CONTACT_VARIABLES: dict[str, tuple[str, str]] = {
     "contact_tangential_force": ("mN/µm", "F^t_i along the contact tangent t (eqs. 11–13)"),
     "contact_normal_x": ("1", "x component of the repulsive direction e_i"),
     "contact_normal_z": ("1", "z component of the repulsive direction e_i"),
+    "contact_slipping": ("1", "1 where the contact slips (|F^t| capped at μ0|F^n|), else 0"),
 }
 
 
@@ -98,6 +118,8 @@ class ContactRecord:
         Local tangential force along the contact tangent t = (e_z, −e_x) [mN/µm].
     normal_x, normal_z : ndarray
         Repulsive direction e_i (unit vector, force on the upper body) [1].
+    slipping : ndarray of bool or None
+        Whether each contact slips (load paths only; ``None`` for a plain normal loading).
     """
 
     step: int
@@ -110,6 +132,7 @@ class ContactRecord:
     tangential_force: NDArray[np.float64]
     normal_x: NDArray[np.float64]
     normal_z: NDArray[np.float64]
+    slipping: NDArray[np.bool_] | None = None
 
 
 def jsonable(value: Any) -> Any:
@@ -184,6 +207,13 @@ class SimulationResult:
             data_vars[name] = xr.Variable(
                 ("step",), np.asarray(self.curves[name]), {"units": units, "long_name": description}
             )
+        for name, (units, description) in PATH_STEP_VARIABLES.items():
+            if name in self.curves:
+                data_vars[name] = xr.Variable(
+                    ("step",),
+                    np.asarray(self.curves[name]),
+                    {"units": units, "long_name": description},
+                )
         for name, (units, description) in SCALAR_VARIABLES.items():
             data_vars[name] = xr.Variable(
                 (), float(self.scalars[name]), {"units": units, "long_name": description}
@@ -207,6 +237,10 @@ class SimulationResult:
                 "contact_normal_x": np.concatenate([c.normal_x for c in self.contacts]),
                 "contact_normal_z": np.concatenate([c.normal_z for c in self.contacts]),
             }
+            if all(c.slipping is not None for c in self.contacts):
+                columns["contact_slipping"] = np.concatenate(
+                    [np.asarray(c.slipping, dtype=np.int8) for c in self.contacts]
+                )
             for name, values in columns.items():
                 units, description = CONTACT_VARIABLES[name]
                 data_vars[name] = xr.Variable(

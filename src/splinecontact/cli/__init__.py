@@ -11,7 +11,7 @@ import sys
 import typer
 
 from ..errors import SplineContactError
-from . import _analysis, _citation, _compare, _engine, _measured, _study
+from . import _analysis, _citation, _compare, _engine, _friction, _measured, _study
 
 __all__ = ["app", "main"]
 
@@ -27,7 +27,7 @@ app = typer.Typer(
     pretty_exceptions_show_locals=False,
 )
 
-for _module in (_engine, _measured, _study, _analysis, _compare, _citation):
+for _module in (_engine, _measured, _study, _analysis, _compare, _friction, _citation):
     _module.register(app)
 
 

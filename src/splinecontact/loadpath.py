@@ -1,0 +1,730 @@
+"""Load paths: move the upper body along any sequence of normal and tangential displacements.
+
+A path is a sequence of :class:`Segment`. It starts at zero minimum gap and no tangential shift
+(δ_N = 0, u_T = 0, step 0); each segment moves linearly, in ``steps`` equal increments, from the
+end of the previous one to its targets:
+
+* ``Segment(normal=δ_N, tangential=u_T, steps=n)`` — displacement control [µm];
+* ``Segment(normal_force=F_N, tangential=u_T, steps=n)`` — F_N [mN/µm] is held at every step of
+  the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9 where F_N(δ_N)
+  is continuous).
+
+``tangential`` omitted keeps the current shift. The upper body shifted by u_T is its spline
+evaluated at x − u_T (no re-fit); the tangential springs of eqs. 11–13 follow each contact as
+its centre migrates from cell to cell (rule in ``docs/conventions.md``, model in
+``docs/friction.md``).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _path_kernel as _k
+from .errors import ParameterError
+from .profile import Profile
+from .results import ContactRecord, SimulationResult
+from .spheres import own_frame_geometry
+from .spline import SplineFit, fit_spline
+
+__all__ = [
+    "ForceControlError",
+    "LoadPathError",
+    "Segment",
+    "parse_path",
+    "run_path",
+    "simulate_path",
+    "validate_path",
+]
+
+#: Relative tolerance to which a force-controlled step meets its target F_N.
+FORCE_RTOL = 1e-9
+
+#: Block size [points] of the candidate culling.
+_BLOCK = 64
+
+#: Tangential travel [grid spacings] served by one candidate list.
+_CHUNK_CELLS = 4
+
+
+class LoadPathError(ParameterError):
+    """A load path or one of its segments is malformed."""
+
+
+class ForceControlError(LoadPathError):
+    """A force-controlled segment asks for a normal force the contact cannot carry."""
+
+
+def _finite(name: str, value: Any, unit: str, index: int | None) -> float:
+    where = "" if index is None else f"segment {index}: "
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise LoadPathError(f"{where}{name} = {value!r} must be a number{unit}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise LoadPathError(f"{where}{name} = {value!r}{unit} must be finite")
+    return value
+
+
+@dataclass(frozen=True, kw_only=True)
+class Segment:
+    """One straight piece of a load path of the upper body.
+
+    Give at most one of ``normal`` (displacement control) or ``normal_force`` (force control);
+    with neither, δ_N stays where the previous segment left it (displacement control).
+
+    Parameters
+    ----------
+    normal : float, optional
+        Target normal displacement δ_N [µm] at the segment's end (positive presses the bodies
+        together; 0 is zero minimum gap at u_T = 0; negative values separate them). Default:
+        keep the current δ_N (unless ``normal_force`` is given).
+    normal_force : float, optional
+        Normal force F_N [mN/µm] held at every step of the segment (> 0).
+    tangential : float, optional
+        Target tangential displacement u_T [µm] of the upper body, positive along +x. Default:
+        keep the current shift.
+    steps : int
+        Number of equal increments [1] (≥ 1).
+    """
+
+    normal: float | None = None
+    normal_force: float | None = None
+    tangential: float | None = None
+    steps: int
+
+    def __post_init__(self) -> None:
+        if self.normal is not None and self.normal_force is not None:
+            raise LoadPathError(
+                f"Segment(normal={self.normal!r}, normal_force={self.normal_force!r}): give "
+                "at most one of normal (δ_N [µm], displacement control) or normal_force "
+                "(F_N [mN/µm], force control)"
+            )
+        if self.normal is not None:
+            object.__setattr__(self, "normal", _finite("normal", self.normal, " µm", None))
+        if self.normal_force is not None:
+            force = _finite("normal_force", self.normal_force, " mN/µm", None)
+            if not force > 0:
+                raise LoadPathError(
+                    f"normal_force = {force!r} mN/µm must be > 0 (to separate the bodies use "
+                    "a displacement segment, normal=...)"
+                )
+            object.__setattr__(self, "normal_force", force)
+        if self.tangential is not None:
+            object.__setattr__(
+                self, "tangential", _finite("tangential", self.tangential, " µm", None)
+            )
+        steps = self.steps
+        if isinstance(steps, bool) or not isinstance(steps, int | np.integer) or int(steps) < 1:
+            raise LoadPathError(f"steps = {steps!r} must be an integer ≥ 1")
+        object.__setattr__(self, "steps", int(steps))
+
+    @property
+    def force_controlled(self) -> bool:
+        """True when the segment holds F_N instead of prescribing δ_N."""
+        return self.normal_force is not None
+
+
+def validate_path(path: Iterable[Segment]) -> tuple[Segment, ...]:
+    """Check a load path and return it as a tuple.
+
+    Raises
+    ------
+    LoadPathError
+        The path is empty, or an element is not a :class:`Segment`.
+    """
+    if isinstance(path, Segment | str | bytes):
+        raise LoadPathError(
+            f"path = {path!r}: give a sequence of Segment, e.g. path=[Segment(normal=0.001, "
+            "steps=100)]"
+        )
+    try:
+        items = tuple(path)
+    except TypeError:
+        raise LoadPathError(f"path = {path!r} is not a sequence of Segment") from None
+    if not items:
+        raise LoadPathError("path is empty: give at least one Segment")
+    for index, item in enumerate(items):
+        if not isinstance(item, Segment):
+            raise LoadPathError(
+                f"path[{index}] = {item!r} is not a Segment; build it with "
+                "splinecontact.Segment(normal=..., tangential=..., steps=...)"
+            )
+    return items
+
+
+@dataclass(frozen=True, eq=False)
+class _Geometry:
+    f_l: NDArray[np.float64]
+    kappa_l: NDArray[np.float64]
+    nl_x: NDArray[np.float64]
+    nl_z: NDArray[np.float64]
+    f_u: NDArray[np.float64]
+    gamma_u: NDArray[np.float64]
+    slope_u: NDArray[np.float64]
+    curv_u: NDArray[np.float64]
+    envelope: NDArray[np.float64]
+    f_l_block: NDArray[np.float64]
+    envelope_block: NDArray[np.float64]
+    flat: bool
+    placement: float
+    dx: float
+    kappa_max: float
+    margin: float
+    scale: float
+
+
+class _State:
+    """Spring state (per grid cell) and scratch arrays of one path run."""
+
+    def __init__(self, n: int) -> None:
+        self.acc = np.zeros(n, dtype=np.bool_)
+        self.ft = np.zeros(n)
+        self.xc = np.zeros(n)
+        self.ex = np.zeros(n)
+        self.ez = np.zeros(n)
+        self.list = np.zeros(n, dtype=np.int64)
+        self.count = np.zeros(1, dtype=np.int64)
+        self.claimed = np.zeros(n, dtype=np.bool_)
+        self.cand_idx = np.empty(n, dtype=np.int64)
+        self.cand_bound = np.empty(n)
+        self.capacity = 0
+        self.scratch: tuple[NDArray[Any], ...] = ()
+        self.ensure(16)
+
+    def ensure(self, capacity: int) -> None:
+        if capacity <= self.capacity:
+            return
+        self.capacity = capacity
+        self.scratch = (
+            np.empty(capacity, dtype=np.int64),  # idx
+            np.empty(capacity),  # fn
+            np.empty(capacity),  # ex
+            np.empty(capacity),  # ez
+            np.empty(capacity),  # xc
+            np.empty(capacity),  # z
+            np.empty(capacity),  # delta
+            np.empty(capacity),  # reff
+            np.empty(capacity),  # ft
+            np.empty(capacity, dtype=np.bool_),  # slip
+            np.empty(capacity, dtype=np.int64),  # src
+        )
+
+
+class _Candidates:
+    """Points that can touch at shift u_T = u and δ_N ≤ d_max, in grid order.
+
+    Rebuilt at every step (block culling makes that O(n/64) plus the points near contact); the
+    arrays are views of buffers shared by the run, valid until the next rebuild.
+    """
+
+    def __init__(self, geo: _Geometry, state: _State, u: float, d_max: float) -> None:
+        self.u = u
+        self.d_max = d_max
+        centre = math.floor(-u / geo.dx)
+        count = _k.candidate_bounds(
+            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.flat,
+            centre - 1, centre + 1, geo.placement - d_max, geo.margin,
+            state.cand_idx, state.cand_bound,
+        )  # fmt: skip
+        self.idx = state.cand_idx[:count]
+        self.bound = state.cand_bound[:count]
+
+
+def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geometry:
+    dx = lower.dx
+    r_min = 0.5 * dx
+    kappa_l, nl_x, nl_z = own_frame_geometry(fit_l.slope, fit_l.second_derivative, r_min)
+    flat = fit_u is None
+    f_l = np.ascontiguousarray(fit_l.f, dtype=np.float64)
+    if fit_u is None:
+        f_u = np.zeros(2)
+        gamma_u = np.zeros(2)
+        slope_u = np.zeros(2)
+        curv_u = np.zeros(2)
+        placement = float(f_l.max())
+        envelope = np.zeros(1)
+    else:
+        f_u = np.ascontiguousarray(fit_u.f, dtype=np.float64)
+        gamma_u = np.ascontiguousarray(fit_u.second_derivative * dx * dx, dtype=np.float64)
+        slope_u = np.ascontiguousarray(fit_u.slope, dtype=np.float64)
+        curv_u = np.ascontiguousarray(fit_u.second_derivative, dtype=np.float64)
+        placement = float((f_u + f_l).max())
+        envelope = _k.interval_envelope(f_u, gamma_u)
+    scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
+    return _Geometry(
+        f_l=f_l,
+        kappa_l=kappa_l,
+        nl_x=nl_x,
+        nl_z=nl_z,
+        f_u=f_u,
+        gamma_u=gamma_u,
+        slope_u=slope_u,
+        curv_u=curv_u,
+        envelope=envelope,
+        f_l_block=_k.block_max(f_l, _BLOCK),
+        envelope_block=_k.block_max(envelope, _BLOCK),
+        flat=flat,
+        placement=placement,
+        dx=dx,
+        kappa_max=1.0 / r_min,
+        margin=1e-12 * scale,
+        scale=scale,
+    )
+
+
+def _step(
+    geo: _Geometry,
+    cands: _Candidates,
+    state: _State,
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    commit: bool,
+    material: tuple[float, float, float],
+) -> tuple[Any, ...]:
+    e_star, g_star, mu0 = material
+    state.ensure(cands.idx.size + 1)
+    reach = 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / geo.dx), geo.f_l.size))
+    return _k.path_step(
+        u, d, du, dd, commit,
+        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
+        geo.curv_u, geo.flat,
+        geo.placement, geo.dx, geo.kappa_max, cands.idx, cands.bound, False,
+        e_star, g_star, mu0, reach,
+        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
+        state.claimed, *state.scratch,
+    )  # fmt: skip
+
+
+def _run(
+    geo: _Geometry,
+    state: _State,
+    material: tuple[float, float, float],
+    u_a: float,
+    d_a: float,
+    u_b: float,
+    d_b: float,
+    n_steps: int,
+    s_first: int,
+    s_last: int,
+    u_prev: float,
+    d_prev: float,
+    table: NDArray[np.float64],
+    row: int,
+) -> None:
+    """Compiled steps s_first … s_last of a displacement-controlled segment into ``table``."""
+    e_star, g_star, mu0 = material
+    state.ensure(geo.f_l.size)
+    args: tuple[Any, ...] = (
+        u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
+        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
+        geo.curv_u, geo.flat, geo.placement, geo.dx, geo.kappa_max, geo.f_l_block,
+        geo.envelope, geo.envelope_block, _BLOCK, geo.margin, state.cand_idx, state.cand_bound,
+        e_star, g_star, mu0,
+        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
+        state.claimed, *state.scratch, table, row,
+    )  # fmt: skip
+    _k.run_steps(*args)
+
+
+_NAMES = (
+    "normal_force",
+    "tangential_force",
+    "contact_area",
+    "n_contacts",
+    "n_slipping",
+    "step_work",
+    "normal_force_normal_part",
+    "normal_force_tangential_part",
+    "n_tilted_contacts",
+    "n_candidates",
+)
+
+
+def _solve_force(
+    target: float,
+    evaluate: Any,
+    d_start: float,
+    scale: float,
+) -> tuple[float, tuple[Any, ...]]:
+    """δ_N with F_N(δ_N) = target (bracketing, then Illinois regula falsi with bisection)."""
+    f_start = evaluate(d_start)
+    r_start = f_start[0] - target
+    if abs(r_start) <= FORCE_RTOL * target:
+        return d_start, f_start
+    step = max(1e-6 * scale, 1e-3 * abs(d_start), 1e-12)
+    direction = 1.0 if r_start < 0 else -1.0
+    a, ra, fa = d_start, r_start, f_start
+    limit = 2.0 * scale  # beyond this the bodies interpenetrate over their full height
+    while True:
+        b = a + direction * step
+        if abs(b) > limit:
+            b = math.copysign(limit, b)
+        fb = evaluate(b)
+        rb = fb[0] - target
+        if (rb > 0) != (ra > 0) or rb == 0:
+            break
+        if abs(b) >= limit:
+            raise ForceControlError(
+                f"normal_force = {target!r} mN/µm cannot be reached: F_N is {fb[0]!r} mN/µm "
+                f"at δ_N = {b!r} µm, where the bodies overlap over their full height; lower "
+                "the target or check the profiles"
+            )
+        a, ra, fa = b, rb, fb
+        step *= 2.0
+    # Keep lo (F_N < target) and hi (F_N ≥ target).
+    if ra < 0:
+        lo, r_lo, f_lo, hi, r_hi, f_hi = a, ra, fa, b, rb, fb
+    else:
+        lo, r_lo, f_lo, hi, r_hi, f_hi = b, rb, fb, a, ra, fa
+    side = 0
+    for iteration in range(400):
+        if abs(r_hi) <= FORCE_RTOL * target:
+            return hi, f_hi
+        if abs(r_lo) <= FORCE_RTOL * target:
+            return lo, f_lo
+        width = abs(hi - lo)
+        if width <= 4.0 * np.spacing(max(abs(hi), abs(lo), 1e-300)):
+            break
+        if iteration % 3 == 2:
+            mid = 0.5 * (lo + hi)
+        else:
+            w_lo = r_hi * (0.5 if side == 1 else 1.0)
+            w_hi = r_lo * (0.5 if side == -1 else 1.0)
+            mid = (lo * w_lo - hi * w_hi) / (w_lo - w_hi)
+            if not min(lo, hi) < mid < max(lo, hi):
+                mid = 0.5 * (lo + hi)
+        fm = evaluate(mid)
+        rm = fm[0] - target
+        if rm < 0:
+            lo, r_lo, f_lo = mid, rm, fm
+            side = -1
+        else:
+            hi, r_hi, f_hi = mid, rm, fm
+            side = 1
+    # F_N jumps across the remaining bracket (a contact appears or vanishes within one ulp of
+    # δ_N): no δ_N carries the target. Take the side closer to it; the miss stays visible as
+    # normal_force − normal_force_target in the output.
+    if abs(r_lo) < abs(r_hi):
+        return lo, f_lo
+    return hi, f_hi
+
+
+def run_path(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    path: Sequence[Segment],
+    *,
+    fits: tuple[SplineFit, SplineFit | None] | None = None,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    record_steps: NDArray[np.int64] | None = None,
+) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
+    """Follow a load path (the engine of ``simulate(..., path=...)``).
+
+    Parameters
+    ----------
+    lower, upper : Profile, Profile or "flat"
+        The bodies (heights [µm] out of each body), sharing one grid.
+    path : sequence of Segment
+        The load path (validated by :func:`validate_path`).
+    fits : (SplineFit, SplineFit or None), optional
+        Spline fits already computed with the same α and x0.
+    e_star, g_star : float
+        E*, G* [GPa].
+    mu0 : float
+        μ0 [1].
+    alpha, x0 : float
+        Spline parameters α [1], x0 [µm].
+    record_steps : array of int, optional
+        Steps at which to keep the accepted contacts.
+
+    Returns
+    -------
+    (curves, contacts)
+        Per-step arrays (``STEP_VARIABLES`` and ``PATH_STEP_VARIABLES``) and recorded contacts.
+    """
+    segments = validate_path(path)
+    if fits is None:
+        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+        fit_u = None if isinstance(upper, str) else fit_spline(upper, alpha=alpha, x0=x0)
+    else:
+        fit_l, fit_u = fits
+    geo = _prepare(lower, fit_l, fit_u)
+    n = geo.f_l.size
+    total = 1 + sum(s.steps for s in segments)
+    target = np.full(total, np.nan)
+    record = np.zeros(total, dtype=np.bool_)
+    if record_steps is not None and len(record_steps):
+        record[record_steps] = True
+    contacts: list[ContactRecord] = []
+    material = (e_star, g_star, mu0)
+    state = _State(n)
+    dx = geo.dx
+
+    # Per step: δ_N, u_T and the sums of _path_kernel.path_step (see _NAMES).
+    table = np.zeros((total, 2 + len(_NAMES)))
+
+    def store_contacts(k: int, m: int) -> None:
+        s = state.scratch
+        idx = s[0][:m].copy()
+        contacts.append(
+            ContactRecord(
+                step=k,
+                point=idx,
+                x=lower.x[idx] + (s[4][:m] - idx * dx),
+                z=s[5][:m].copy(),
+                overlap=s[6][:m].copy(),
+                effective_radius=s[7][:m].copy(),
+                normal_force=s[1][:m].copy(),
+                tangential_force=s[8][:m].copy(),
+                normal_x=s[2][:m].copy(),
+                normal_z=s[3][:m].copy(),
+                slipping=s[9][:m].copy(),
+            )
+        )
+
+    def store(k: int, d: float, u: float, values: tuple[Any, ...]) -> None:
+        table[k, 0] = d
+        table[k, 1] = u
+        table[k, 2:] = values
+        if record[k]:
+            store_contacts(k, int(values[3]))
+
+    # Step 0: zero minimum gap, no shift.
+    first = _Candidates(geo, state, 0.0, 0.0)
+    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True, material))
+    k = 0
+    u_cur = 0.0
+    d_cur = 0.0
+    margin = 1e-3 * geo.scale  # extra δ_N range of a force-controlled step's candidates
+    for seg in segments:
+        u_a, d_a = u_cur, d_cur
+        u_b = u_a if seg.tangential is None else float(seg.tangential)
+        n_steps = seg.steps
+        force = seg.normal_force
+        d_target = d_a if seg.normal is None else float(seg.normal)
+        if force is None:
+            # Compiled runs between recorded steps; a recorded step runs alone so that its
+            # contacts can be read from the scratch arrays.
+            s = 1
+            while s <= n_steps:
+                rec = np.flatnonzero(record[k + s : k + n_steps + 1])
+                if rec.size and rec[0] == 0:
+                    s_last = s
+                else:
+                    s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
+                _run(geo, state, material, u_a, d_a, u_b, d_target, n_steps, s, s_last,
+                     u_cur, d_cur, table, k + s)  # fmt: skip
+                if record[k + s_last]:
+                    store_contacts(k + s_last, int(table[k + s_last, 5]))
+                u_cur, d_cur = table[k + s_last, 1], table[k + s_last, 0]
+                s = s_last + 1
+            k += n_steps
+            continue
+        for s in range(1, n_steps + 1):
+            u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
+            du = u - u_cur
+            cands = _Candidates(geo, state, u, d_cur + margin)
+
+            def evaluate(
+                trial: float, _u: float = u, _du: float = du, _d0: float = d_cur
+            ) -> tuple[Any, ...]:
+                nonlocal cands
+                if trial > cands.d_max:
+                    cands = _Candidates(geo, state, _u, trial + margin)
+                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False, material)
+
+            d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
+            if d > cands.d_max:
+                cands = _Candidates(geo, state, u, d + margin)
+            values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
+            target[k + 1] = force
+            k += 1
+            store(k, d, u, values)
+            u_cur, d_cur = u, d
+    disp = table[:, 0].copy()
+    tang = table[:, 1].copy()
+    out = {
+        name: table[:, 2 + j].astype(np.int64) if name.startswith("n_") else table[:, 2 + j].copy()
+        for j, name in enumerate(_NAMES)
+    }
+    held = np.isfinite(target)
+    if held.any():
+        miss = np.abs(out["normal_force"][held] - target[held]) / target[held]
+        n_miss = int(np.sum(miss > 1e-6))
+        if n_miss:
+            warnings.warn(
+                f"F_N could not be held to 1e-6 at {n_miss} of {int(held.sum())} force-controlled "
+                f"steps (largest relative miss {float(miss.max()):.3g}): F_N(δ_N) jumps where a "
+                "contact appears or vanishes (eq. 9), and the target fell inside a jump; the "
+                "nearer side was taken (see normal_force − normal_force_target)",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+    curves: dict[str, NDArray[Any]] = {
+        "displacement": disp,
+        "tangential_displacement": tang,
+        "normal_force": out["normal_force"],
+        "tangential_force": out["tangential_force"],
+        "contact_area": out["contact_area"],
+        "n_contacts": out["n_contacts"],
+        "n_slipping": out["n_slipping"],
+        "dissipated_work": np.cumsum(out["step_work"]),
+        "normal_force_target": target,
+        "normal_force_normal_part": out["normal_force_normal_part"],
+        "normal_force_tangential_part": out["normal_force_tangential_part"],
+        "n_tilted_contacts": out["n_tilted_contacts"],
+        "n_candidates": out["n_candidates"],
+    }
+    return curves, tuple(contacts)
+
+
+def simulate_path(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    path: Sequence[Segment],
+    *,
+    steps: int = 1000,
+    final_displacement: float | None,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    record_contacts: Iterable[int] | str | None,
+) -> SimulationResult:
+    """``simulate(lower, upper, path=...)`` with validated material parameters.
+
+    Parameters are those of :func:`splinecontact.simulate` (E*, G* [GPa], μ0 [1], α [1],
+    x0 [µm]); ``steps`` must keep its default 1000 and ``final_displacement`` must be ``None``
+    (the path's segments set both).
+    """
+    from .contact import _record_steps, contact_geometry
+
+    segments = validate_path(path)
+    if final_displacement is not None:
+        raise LoadPathError(
+            f"final_displacement = {final_displacement!r} µm and path were both given: the path "
+            "sets the displacements; drop final_displacement"
+        )
+    if steps != 1000:
+        raise LoadPathError(
+            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
+            "drop steps"
+        )
+    flat = isinstance(upper, str)
+    if flat and upper != "flat":
+        raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'")
+    reach = max(
+        [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
+    )
+    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+    fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
+    geometry, stats = contact_geometry(
+        lower, upper, steps=1, final_displacement=max(reach, lower.dx),
+        final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
+    )  # fmt: skip
+    total = sum(s.steps for s in segments)
+    record_steps = _record_steps(record_contacts, total)
+    curves, contacts = run_path(
+        lower, upper, segments, fits=(fit_l, fit_u), e_star=e_star, g_star=g_star, mu0=mu0,
+        alpha=alpha, x0=x0, record_steps=record_steps,
+    )  # fmt: skip
+    curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
+    final = float(curves["displacement"][-1])
+    parameters: dict[str, Any] = {
+        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
+        "steps": total,
+        "final_displacement": final,
+        "final_displacement_factor": 0.2,
+        "e_star": e_star,
+        "g_star": g_star,
+        "mu0": mu0,
+        "alpha": float(alpha),
+        "x0": float(x0),
+        "r_min": 0.5 * lower.dx,
+        "dx": lower.dx,
+        "n_points": lower.n_points,
+        "length": lower.length,
+        "path": [
+            {
+                "normal": s.normal,
+                "normal_force": s.normal_force,
+                "tangential": s.tangential,
+                "steps": s.steps,
+            }
+            for s in segments
+        ],
+        "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
+    }
+    scalars = {**stats, "final_displacement": final}
+    return SimulationResult(
+        curves=curves,
+        scalars=scalars,
+        parameters=parameters,
+        contacts=contacts,
+        lower_metadata=dict(lower.metadata),
+        upper_metadata={"source": "flat"} if flat else dict(upper.metadata),  # type: ignore[union-attr]
+    )
+
+
+_SPEC_KEYS = {"normal": "normal", "force": "normal_force", "normal_force": "normal_force",
+              "tangential": "tangential", "steps": "steps"}  # fmt: skip
+
+
+def parse_path(text: str) -> tuple[Segment, ...]:
+    """A load path from text: segments separated by ``;``, each ``key=value`` pairs by ``,``.
+
+    Keys: ``normal`` (δ_N [µm]), ``force`` or ``normal_force`` (F_N [mN/µm]), ``tangential``
+    (u_T [µm]) and ``steps`` [1], e.g. ``"normal=0.001,steps=200; tangential=0.02,steps=400"``.
+
+    Raises
+    ------
+    LoadPathError
+        Empty text, an unknown key, a repeated key, a value that is not a number, or a bad
+        segment (see :class:`Segment`).
+    """
+    parts = [p.strip() for p in text.split(";")]
+    if not any(parts):
+        raise LoadPathError(f"path {text!r} is empty: give e.g. 'normal=0.001,steps=200'")
+    segments = []
+    for index, part in enumerate(parts):
+        if not part:
+            raise LoadPathError(f"path {text!r}: segment {index} is empty (stray ';')")
+        kwargs: dict[str, Any] = {}
+        for item in part.split(","):
+            key, sep, value = item.partition("=")
+            key = key.strip().lower()
+            if not sep or key not in _SPEC_KEYS:
+                raise LoadPathError(
+                    f"path segment {index} {part!r}: {item.strip()!r} is not key=value with key "
+                    "normal, force, tangential or steps"
+                )
+            name = _SPEC_KEYS[key]
+            if name in kwargs:
+                raise LoadPathError(f"path segment {index} {part!r}: {key} given twice")
+            try:
+                kwargs[name] = int(value) if name == "steps" else float(value)
+            except ValueError:
+                raise LoadPathError(
+                    f"path segment {index} {part!r}: {key} = {value.strip()!r} is not "
+                    + ("an integer" if name == "steps" else "a number")
+                ) from None
+        if "steps" not in kwargs:
+            raise LoadPathError(f"path segment {index} {part!r}: give steps=N")
+        try:
+            segments.append(Segment(**kwargs))
+        except LoadPathError as exc:
+            raise LoadPathError(f"path segment {index} {part!r}: {exc}") from None
+    return tuple(segments)
