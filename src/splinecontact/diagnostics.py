@@ -178,7 +178,7 @@ def grid_diagnostic(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> Diagno
     if not res.coarse:
         return None
     if res.x0_for_limit is not None:
-        remedy = f"raise x0 to ≥ {res.x0_for_limit:.3g} µm (--x0) or use a finer scan"
+        remedy = f"raise x0 (--x0 ≥ {res.x0_for_limit:.3g} µm) or use a finer scan"
     else:
         remedy = f"lower α below 3 (α = {alpha:g}: no x0 can help) or use a finer scan"
     if res.interpolates:
