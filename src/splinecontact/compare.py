@@ -36,6 +36,8 @@ from .profile import Profile
 
 __all__ = [
     "COLUMNS",
+    "COMPARE_MAX_ITERATIONS",
+    "MAX_BISECTIONS",
     "MAX_CONTACT_FRACTION",
     "Comparison",
     "compare_profiles",
@@ -46,6 +48,13 @@ __all__ = [
 #: Share of the profile in exact contact [1] at which a comparison stops (near full contact the
 #: mean gap tends to zero and ratios to it are meaningless).
 MAX_CONTACT_FRACTION = 0.9
+
+#: BEM iteration limit per solve [1] in a comparison (converged solves take tens to hundreds;
+#: a solve that has not converged by then is approached again in smaller load steps).
+COMPARE_MAX_ITERATIONS = 5000
+
+#: Halvings of a load step tried when a BEM solve does not converge.
+MAX_BISECTIONS = 4
 
 #: Columns of the comparison table: name -> (units, description).
 COLUMNS: dict[str, tuple[str, str]] = {
@@ -109,6 +118,42 @@ def _select_steps(force: NDArray[np.float64], n_forces: int) -> NDArray[np.int64
     return np.unique(np.asarray(chosen, dtype=np.int64))
 
 
+def _solve_in_substeps(
+    problem: bem.ContactProblem,
+    load: float,
+    initial: NDArray[np.float64] | None,
+    initial_load: float,
+    tol: float,
+    max_iterations: int,
+    depth: int = 0,
+) -> bem.BEMStep:
+    """Solve at mean pressure ``load`` [GPa], warm-started; on failure approach it in halves.
+
+    A new contact spot far from the loaded ones can make the constrained conjugate gradients
+    cycle from a warm start; approaching the load from the last converged state in smaller
+    steps lets the contact set grow gradually (at most :data:`MAX_BISECTIONS` halvings).
+    """
+    try:
+        return bem.solve_pressure(
+            problem,
+            load,
+            initial_pressure=initial,
+            tol=tol,
+            max_iterations=max_iterations,
+            fields=True,
+        )
+    except NoConvergenceError:
+        if depth >= MAX_BISECTIONS:
+            raise
+    middle = 0.5 * (initial_load + load)
+    half = _solve_in_substeps(
+        problem, middle, initial, initial_load, tol, max_iterations, depth + 1
+    )
+    return _solve_in_substeps(
+        problem, load, half.pressure, middle, tol, max_iterations, depth + 1
+    )
+
+
 def compare_profiles(
     lower: Profile,
     upper: Profile | Literal["flat"] = "flat",
@@ -121,7 +166,7 @@ def compare_profiles(
     x0: float = 1.0,
     n_forces: int = 20,
     tol: float = bem.DEFAULT_TOLERANCE,
-    max_iterations: int = bem.DEFAULT_MAX_ITERATIONS,
+    max_iterations: int = COMPARE_MAX_ITERATIONS,
     max_contact_fraction: float = MAX_CONTACT_FRACTION,
     progress: Callable[[str], None] | None = None,
 ) -> Comparison:
@@ -148,7 +193,9 @@ def compare_profiles(
     tol : float
         BEM convergence tolerance [1] (see :mod:`splinecontact.bem`).
     max_iterations : int
-        BEM iteration limit per force [1].
+        BEM iteration limit per solve [1]. A force that does not converge within it is
+        approached again from the last converged force in up to :data:`MAX_BISECTIONS`
+        halvings before the comparison stops.
     max_contact_fraction : float
         Share of the profile in exact contact [1] at which the comparison stops: states at or
         near full contact (mean gap → 0) are not reported; a note says so.
@@ -221,18 +268,14 @@ def compare_profiles(
         f"{problem.n_points} nodes (mirrored), tol {tol:g}, ≤ {max_iterations} iterations each"
     )
     solved: list[bem.BEMStep] = []
-    previous = None
+    previous: NDArray[np.float64] | None = None
+    previous_load = 0.0
     for k, step_index in enumerate(keep):
         force = float(force_curve[step_index])
         t1 = time.perf_counter()
         try:
-            state = bem.solve_pressure(
-                problem,
-                force / segment,
-                initial_pressure=previous,
-                tol=tol,
-                max_iterations=max_iterations,
-                fields=True,
+            state = _solve_in_substeps(
+                problem, force / segment, previous, previous_load, tol, max_iterations
             )
         except NoConvergenceError as exc:
             raise NoConvergenceError(
@@ -245,7 +288,8 @@ def compare_profiles(
         fraction = state.contact_nodes / problem.n_points
         say(
             f"BEM force {k + 1}/{len(keep)}: F = {force:.4g} mN/µm, exact contact "
-            f"{100 * fraction:.1f} %, {state.iterations} iterations, "
+            f"{state.contact_nodes} of {problem.n_points} nodes ({100 * fraction:.3g} %), "
+            f"{state.iterations} iterations, "
             f"{time.perf_counter() - t1:.1f} s"
         )
         if fraction >= max_contact_fraction:
@@ -258,7 +302,7 @@ def compare_profiles(
             say(notes[-1])
             break
         solved.append(state)
-        previous = state.pressure
+        previous, previous_load = state.pressure, force / segment
     if not solved:
         raise ParameterError(
             f"the exact contact is near full contact (≥ {100 * max_contact_fraction:.0f} % of "
