@@ -54,7 +54,7 @@ MAX_CONTACT_FRACTION = 0.9
 COMPARE_MAX_ITERATIONS = 5000
 
 #: Halvings of a load step tried when a BEM solve does not converge.
-MAX_BISECTIONS = 4
+MAX_BISECTIONS = 2
 
 #: Columns of the comparison table: name -> (units, description).
 COLUMNS: dict[str, tuple[str, str]] = {
