@@ -262,6 +262,14 @@ CropOpt = Annotated[
         rich_help_panel=PANEL_PRE,
     ),
 ]
+UpperCropOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--upper-crop",
+        help="Keep X_MIN,X_MAX [µm] of the upper file (default: --crop).",
+        rich_help_panel=PANEL_PRE,
+    ),
+]
 ZeroOriginOpt = Annotated[
     bool, typer.Option("--zero-origin", help="Shift x to start at 0 µm.", rich_help_panel=PANEL_PRE)
 ]
@@ -285,6 +293,9 @@ class ProfileReading:
     read: dict[str, Any]
     upper_read: dict[str, Any]
     preprocessing: Preprocessing
+    upper_preprocessing: Preprocessing
+    upper_options: tuple[str, ...] = ()
+    inherited: tuple[str, ...] = ()
 
 
 def profile_reading(
@@ -302,6 +313,7 @@ def profile_reading(
     nonuniform: str = "refuse",
     resample_spacing: float | None = None,
     crop: str | None = None,
+    upper_crop: str | None = None,
     zero_origin: bool = False,
     detrend: str = "none",
 ) -> ProfileReading:
@@ -329,25 +341,35 @@ def profile_reading(
     for name, number in (("--spacing", spacing), ("--resample-spacing", resample_spacing)):
         if number is not None and not (math.isfinite(number) and number > 0):
             raise ParameterError(f"{name} {number!r} must be a positive length in µm")
-    crop_range = None
-    if crop is not None:
-        parts = crop.replace(":", ",").split(",")
+    def crop_range(option: str, text: str | None) -> tuple[float, float] | None:
+        if text is None:
+            return None
+        parts = text.replace(":", ",").split(",")
         try:
             lo, hi = (float(p) for p in parts)
         except ValueError:
             raise PreprocessingOptionError(
-                f"--crop {crop!r} is not X_MIN,X_MAX in µm (e.g. --crop 100,2000)"
+                f"{option} {text!r} is not X_MIN,X_MAX in µm (e.g. {option} 100,2000)"
             ) from None
-        crop_range = (lo, hi)
-    preprocessing = Preprocessing(
-        undefined=undefined,  # type: ignore[arg-type]  # validated by Preprocessing
-        order=order,  # type: ignore[arg-type]
-        duplicates=duplicates,  # type: ignore[arg-type]
-        nonuniform=nonuniform,  # type: ignore[arg-type]
-        resample_spacing=resample_spacing,
-        crop=crop_range,
-        zero_origin=zero_origin,
-        detrend=detrend,
+        return (lo, hi)
+
+    def preprocessing_with(window: tuple[float, float] | None) -> Preprocessing:
+        return Preprocessing(
+            undefined=undefined,  # type: ignore[arg-type]  # validated by Preprocessing
+            order=order,  # type: ignore[arg-type]
+            duplicates=duplicates,  # type: ignore[arg-type]
+            nonuniform=nonuniform,  # type: ignore[arg-type]
+            resample_spacing=resample_spacing,
+            crop=window,
+            zero_origin=zero_origin,
+            detrend=detrend,
+        )
+
+    preprocessing = preprocessing_with(crop_range("--crop", crop))
+    upper_preprocessing = (
+        preprocessing
+        if upper_crop is None
+        else preprocessing_with(crop_range("--upper-crop", upper_crop))
     )
     read = {
         "format": file_format,
@@ -359,7 +381,20 @@ def profile_reading(
     upper_read = {**read, "line": line if upper_line is None else upper_line}
     if upper_unit is not None:
         upper_read.update(unit=upper_unit, height_unit=None)
-    return ProfileReading(read, upper_read, preprocessing)
+    given = (
+        ("--upper-line", upper_line), ("--upper-unit", upper_unit), ("--upper-crop", upper_crop)
+    )
+    upper_options = tuple(f"{name} {value}" for name, value in given if value is not None)
+    # reader options the upper file takes from the shared ones (dropped if it refuses them)
+    inherited = tuple(
+        key
+        for key, own in (("line", upper_line), ("unit", upper_unit),
+                         ("height_unit", upper_unit), ("spacing", upper_unit))
+        if own is None and read[key] is not None
+    )  # fmt: skip
+    return ProfileReading(
+        read, upper_read, preprocessing, upper_preprocessing, upper_options, inherited
+    )
 
 
 # --- body specs -----------------------------------------------------------------------------
@@ -529,12 +564,49 @@ def _generate(kwargs: dict[str, Any], option: str) -> Profile:
         ) from None
 
 
-def read_body(spec: BodySpec, reading: ProfileReading, *, upper: bool = False) -> Profile:
-    """Read a ``file`` spec with the command's reading options."""
+def read_body(
+    spec: BodySpec, reading: ProfileReading, *, upper: bool = False, two_files: bool = False
+) -> Profile:
+    """Read a ``file`` spec with the command's reading options.
+
+    With two files, the reader's option hints name the option that reaches the body at hand
+    (``--upper-line``/``--upper-unit`` for the upper file).
+    """
     from ..io import read_profile
 
+    from ..io._errors import ReadOptionError
+
     read = reading.upper_read if upper else reading.read
-    return read_profile(spec.path, preprocessing=reading.preprocessing, **read)
+    preprocessing = reading.upper_preprocessing if upper else reading.preprocessing
+    try:
+        try:
+            return read_profile(spec.path, preprocessing=preprocessing, **read)
+        except ReadOptionError:
+            # --line/--unit/--spacing are meant for the lower file: an upper file that states
+            # its own units or is not areal is read without them
+            if not (upper and reading.inherited):
+                raise
+            own = {**read, **{key: None for key in reading.inherited}}
+            return read_profile(spec.path, preprocessing=preprocessing, **own)
+    except ProfileReadError as exc:
+        if not two_files:
+            raise
+        text = str(exc)
+        if upper:
+            text = text.replace("CLI --line", "CLI --upper-line").replace(
+                "CLI --unit", "CLI --upper-unit"
+            )
+        if "line= is only for areal data" in text:
+            text += (
+                "; --line applies to both bodies: give the upper file its row with "
+                "--upper-line instead"
+                if not upper
+                else "; drop --line and give the lower file its row with --line only if it "
+                "is areal (--upper-line for the upper)"
+            )
+        if text == str(exc):
+            raise
+        raise type(exc)(text) from None
 
 
 def load_bodies(
@@ -570,10 +642,15 @@ def load_bodies(
         raise ParameterError(
             "--lower generated: give the fractal dimension, e.g. generated:D=1.5,seed=3"
         )
+    if up.kind != "file" and reading.upper_options:
+        raise ParameterError(
+            f"{reading.upper_options[0]} needs an upper FILE, not --upper {upper_text!r}"
+        )
     notes: list[str] = []
     inputs = tuple(s.path for s in (lo, up) if s.kind == "file")
-    lower_file = read_body(lo, reading) if lo.kind == "file" else None
-    upper_file = read_body(up, reading, upper=True) if up.kind == "file" else None
+    two = lo.kind == "file" and up.kind == "file"
+    lower_file = read_body(lo, reading, two_files=two) if lo.kind == "file" else None
+    upper_file = read_body(up, reading, upper=True, two_files=two) if up.kind == "file" else None
 
     def resolve(spec: BodySpec, option: str, grid: Profile | None) -> dict[str, Any]:
         kwargs = dict(spec.generated)
@@ -646,6 +723,7 @@ def check_grids(lower: Profile, upper: Profile, lower_spec: str, upper_spec: str
         f"the grids differ: lower {lower_spec} has {lower.n_points} points at dx = "
         f"{lower.dx:.6g} µm (length {lower.length:.6g} µm), upper {upper_spec} has "
         f"{upper.n_points} points at dx = {upper.dx:.6g} µm (length {upper.length:.6g} µm); "
-        "make them share one grid, e.g. --nonuniform resample --resample-spacing DX and "
-        "--crop X_MIN,X_MAX (with --zero-origin)"
+        "make them share one grid: --nonuniform resample --resample-spacing DX, and "
+        "--crop X_MIN,X_MAX for the lower, --upper-crop X_MIN,X_MAX for the upper (each in "
+        "its file's own x, ranges of equal length)"
     )

@@ -29,6 +29,7 @@ from ._common import (
     SpacingOpt,
     UndefinedOpt,
     UnitOpt,
+    UpperCropOpt,
     UpperLineOpt,
     UpperUnitOpt,
     ZeroOriginOpt,
@@ -129,6 +130,7 @@ def register(app: typer.Typer) -> None:
         nonuniform: NonuniformOpt = "refuse",
         resample_spacing: ResampleSpacingOpt = None,
         crop: CropOpt = None,
+        upper_crop: UpperCropOpt = None,
         zero_origin: ZeroOriginOpt = False,
         detrend: DetrendOpt = "none",
     ) -> None:
@@ -155,8 +157,8 @@ def register(app: typer.Typer) -> None:
             file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
             line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
             order=order, duplicates=duplicates, nonuniform=nonuniform,
-            resample_spacing=resample_spacing, crop=crop, zero_origin=zero_origin,
-            detrend=detrend,
+            resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
+            zero_origin=zero_origin, detrend=detrend,
         )  # fmt: skip
         specs = [
             parse_body_spec(lower, option="--lower"),

@@ -27,6 +27,7 @@ from ._common import (
     SpacingOpt,
     UndefinedOpt,
     UnitOpt,
+    UpperCropOpt,
     UpperLineOpt,
     UpperUnitOpt,
     ZeroOriginOpt,
@@ -180,6 +181,7 @@ def simulate_command(
     nonuniform: NonuniformOpt = "refuse",
     resample_spacing: ResampleSpacingOpt = None,
     crop: CropOpt = None,
+    upper_crop: UpperCropOpt = None,
     zero_origin: ZeroOriginOpt = False,
     detrend: DetrendOpt = "none",
 ) -> None:
@@ -206,15 +208,12 @@ def simulate_command(
         file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
         line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
         order=order, duplicates=duplicates, nonuniform=nonuniform,
-        resample_spacing=resample_spacing, crop=crop, zero_origin=zero_origin, detrend=detrend,
+        resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
+        zero_origin=zero_origin, detrend=detrend,
     )  # fmt: skip
     specs = [parse_body_spec(lower, option="--lower"), parse_body_spec(upper, option="--upper")]
     inputs = [s.path for s in specs if s.kind == "file"]
     check_output_file(output, overwrite=overwrite, inputs=inputs)
-    if upper_line is not None and specs[1].kind != "file":
-        raise ParameterError(f"--upper-line {upper_line} needs an upper FILE, not {upper!r}")
-    if upper_unit is not None and specs[1].kind != "file":
-        raise ParameterError(f"--upper-unit {upper_unit} needs an upper FILE, not {upper!r}")
     bodies = load_bodies(lower, upper, reading)
     for note in bodies.notes:
         typer.echo(f"note: {note}", err=True)
