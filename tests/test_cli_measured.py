@@ -551,3 +551,78 @@ def test_memory_and_os_errors_are_one_line_and_write_nothing(
     )
     _assert_clean_failure(result, out, fragment)
     assert "chatter" not in result.output
+
+
+# --- two measured files against each other ----------------------------------------------------
+
+X3P_VS_HFM = [
+    "--lower", str(DATA / "x3p-2.x3p"), "--line", "0", "--upper", str(DATA / "hfm-1.hfm"),
+    "--nonuniform", "resample", "--resample-spacing", "0.5", "--crop", "77,157",
+    "--upper-crop", "8680,8760", "--zero-origin", "--detrend", "tilt",
+]  # fmt: skip
+
+
+def test_two_different_files_on_one_grid(tmp_path: Path) -> None:
+    # --line is for the areal lower file; the upper .hfm is read without it
+    out = tmp_path / "xh.nc"
+    result = runner.invoke(app, ["simulate", *X3P_VS_HFM, "-o", str(out), "--steps", "50"])
+    assert result.exit_code == 0, result.output
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert int(ds.attrs["n_points"]) == 160
+        assert float(ds["ra_upper"]) > 0
+
+
+def test_upper_file_hints_name_the_upper_options(tmp_path: Path) -> None:
+    out = tmp_path / "o.nc"
+    result = runner.invoke(
+        app, ["simulate", "--lower", str(DATA / "hfm-1.hfm"), "--upper", str(DATA / "x3p-2.x3p"),
+              "-o", str(out)],
+    )  # fmt: skip
+    _assert_clean_failure(result, out, "LineSelectionError", "--upper-line")
+    mismatch = runner.invoke(
+        app, ["simulate", "--lower", str(DATA / "hfm-1.hfm"), "--upper", str(DATA / "x3p-2.x3p"),
+              "--upper-line", "0", "-o", str(out)],
+    )  # fmt: skip
+    _assert_clean_failure(mismatch, out, "GridMismatchError", "--upper-crop", "--resample-spacing")
+
+
+# --- as a new user, from the console script ---------------------------------------------------
+
+
+def _run(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "splinecontact", *args],
+        capture_output=True, text=True, timeout=900, check=False, cwd=cwd,
+    )  # fmt: skip
+
+
+@pytest.mark.slow
+def test_new_user_walkthrough_with_the_three_samples(tmp_path: Path) -> None:
+    """inspect, simulate (flat and each other), compare and plot on tests/data, from a shell."""
+    hfm, xy, x3p = (str(DATA / n) for n in ("hfm-1.hfm", "xy-4.txt", "x3p-2.x3p"))
+    for args in ([hfm], [xy, "--unit", "um"], [x3p, "--line", "0"]):
+        proc = _run("inspect", *args, cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        assert "Traceback" not in proc.stderr
+    # each sample against a flat: the refusal names the option, which then works
+    refused = _run("simulate", "--lower", x3p, "-o", "x.nc", cwd=tmp_path)
+    assert refused.returncode == 1 and "--line" in refused.stderr
+    for name, args in (("h", [hfm, "--detrend", "tilt"]), ("y", [xy, "--unit", "um"]),
+                       ("x", [x3p, "--line", "0"])):  # fmt: skip
+        proc = _run("simulate", "--lower", *args, "-o", f"{name}.nc", "--steps", "100", cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        assert "Traceback" not in proc.stderr
+    # against each other
+    proc = _run("simulate", *X3P_VS_HFM, "-o", "xh.csv", "--steps", "100", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    # compare with the options its messages suggest
+    refused = _run("compare", "--lower", x3p, "-o", "cmp", cwd=tmp_path)
+    assert refused.returncode == 1 and "--line" in refused.stderr
+    proc = _run("compare", "--lower", x3p, "--line", "0", "--detrend", "tilt", "--steps", "200",
+                "--forces", "5", "-o", "cmp", cwd=tmp_path)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "BEM force 5/5" in proc.stderr or "near full contact" in proc.stdout
+    # plot one result
+    proc = _run("plot", "h.nc", "-o", "figs", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert len(list((tmp_path / "figs").glob("*.png"))) == 4
