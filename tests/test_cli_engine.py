@@ -202,7 +202,9 @@ def test_generate_without_seed_prints_and_stores_it(tmp_path: Path) -> None:
         stored = json.loads(str(data["metadata"]))
     assert stored["profile_metadata"]["seed_entropy"] == match.group(1)
     again = tmp_path / "again.npz"
-    runner.invoke(app, ["generate", "-o", str(again), "--n-points", "300", "--seed", match.group(1)])
+    runner.invoke(
+        app, ["generate", "-o", str(again), "--n-points", "300", "--seed", match.group(1)]
+    )
     np.testing.assert_array_equal(np.load(out)["z"], np.load(again)["z"])
 
 

@@ -609,7 +609,9 @@ def test_new_user_walkthrough_with_the_three_samples(tmp_path: Path) -> None:
     assert refused.returncode == 1 and "--line" in refused.stderr
     for name, args in (("h", [hfm, "--detrend", "tilt"]), ("y", [xy, "--unit", "um"]),
                        ("x", [x3p, "--line", "0"])):  # fmt: skip
-        proc = _run("simulate", "--lower", *args, "-o", f"{name}.nc", "--steps", "100", cwd=tmp_path)
+        proc = _run(
+            "simulate", "--lower", *args, "-o", f"{name}.nc", "--steps", "100", cwd=tmp_path
+        )
         assert proc.returncode == 0, proc.stderr
         assert "Traceback" not in proc.stderr
     # against each other

@@ -17,12 +17,16 @@ from .errors import *  # noqa: F403
 from .errors import __all__ as _errors_all
 
 if TYPE_CHECKING:
-    from .contact import simulate
-    from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-    from .profile import Profile
-    from .results import ContactRecord, SimulationResult
-    from .spheres import SurfaceSpheres, surface_spheres
-    from .spline import SplineFit, fit_spline
+    from .contact import simulate as simulate
+    from .generate import weierstrass_mandelbrot as weierstrass_mandelbrot
+    from .generate import weierstrass_mandelbrot_pair as weierstrass_mandelbrot_pair
+    from .profile import Profile as Profile
+    from .results import ContactRecord as ContactRecord
+    from .results import SimulationResult as SimulationResult
+    from .spheres import SurfaceSpheres as SurfaceSpheres
+    from .spheres import surface_spheres as surface_spheres
+    from .spline import SplineFit as SplineFit
+    from .spline import fit_spline as fit_spline
 
 # The numerical modules (numba, numpy) are imported on first use, so that importing the package
 # (and the command line's --help) is quick.

@@ -149,9 +149,7 @@ def _solve_in_substeps(
     half = _solve_in_substeps(
         problem, middle, initial, initial_load, tol, max_iterations, depth + 1
     )
-    return _solve_in_substeps(
-        problem, load, half.pressure, middle, tol, max_iterations, depth + 1
-    )
+    return _solve_in_substeps(problem, load, half.pressure, middle, tol, max_iterations, depth + 1)
 
 
 def compare_profiles(

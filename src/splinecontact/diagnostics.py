@@ -200,9 +200,7 @@ def grid_diagnostic(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> Diagno
     return Diagnostic("coarse_grid", text, value)
 
 
-def contact_diagnostic(
-    curves: Mapping[str, Any], length: float
-) -> Diagnostic | None:
+def contact_diagnostic(curves: Mapping[str, Any], length: float) -> Diagnostic | None:
     """Report a final contact area A_S that is a large share of the profile length.
 
     Parameters

@@ -46,8 +46,8 @@ P = ParamSpec("P")
 T = TypeVar("T")
 
 __all__ = [
-    "BodySpec",
     "Bodies",
+    "BodySpec",
     "ProfileReading",
     "fail",
     "handle_errors",
@@ -95,7 +95,7 @@ def _native_stderr_held() -> Iterator[list[bytes]]:
     saved = os.dup(2)
     spool = tempfile.TemporaryFile()
     old_stderr = sys.stderr
-    replacement = open(os.dup(saved), "w", encoding=old_stderr.encoding or "utf-8",  # noqa: SIM115
+    replacement = open(os.dup(saved), "w", encoding=old_stderr.encoding or "utf-8",
                        errors="backslashreplace", buffering=1)  # fmt: skip
     os.dup2(spool.fileno(), 2)
     sys.stderr = replacement
@@ -341,6 +341,7 @@ def profile_reading(
     for name, number in (("--spacing", spacing), ("--resample-spacing", resample_spacing)):
         if number is not None and not (math.isfinite(number) and number > 0):
             raise ParameterError(f"{name} {number!r} must be a positive length in µm")
+
     def crop_range(option: str, text: str | None) -> tuple[float, float] | None:
         if text is None:
             return None
@@ -382,7 +383,9 @@ def profile_reading(
     if upper_unit is not None:
         upper_read.update(unit=upper_unit, height_unit=None)
     given = (
-        ("--upper-line", upper_line), ("--upper-unit", upper_unit), ("--upper-crop", upper_crop)
+        ("--upper-line", upper_line),
+        ("--upper-unit", upper_unit),
+        ("--upper-crop", upper_crop),
     )
     upper_options = tuple(f"{name} {value}" for name, value in given if value is not None)
     # reader options the upper file takes from the shared ones (dropped if it refuses them)
@@ -423,9 +426,7 @@ def _number(spec: str, name: str, text: str, kind: type) -> Any:
     try:
         number = float(value)
     except ValueError:
-        raise ParameterError(
-            f"{spec!r}: {name}={value!r} is not a valid {kind.__name__}"
-        ) from None
+        raise ParameterError(f"{spec!r}: {name}={value!r} is not a valid {kind.__name__}") from None
     if not math.isfinite(number):
         raise ParameterError(f"{spec!r}: {name}={value!r} must be a finite number")
     if kind is float:
@@ -456,7 +457,7 @@ def parse_generated_spec(spec: str, *, require_dimension: bool = True) -> dict[s
         Unknown key, value of the wrong type, non-finite or negative values, a seed outside
         0 ≤ seed < 2⁶³, or no dimension.
     """
-    head, sep, body = spec.partition(":")
+    head, _, body = spec.partition(":")
     if head.strip().lower() != "generated":
         raise ParameterError(f"{spec!r} is not generated:KEY=VALUE,...")
     kwargs: dict[str, Any] = {}
@@ -520,9 +521,7 @@ def parse_body_spec(text: str, *, option: str) -> BodySpec:
         close = difflib.get_close_matches(head, _KEYWORDS, n=1, cutoff=0.6)
         choices = "flat, " if option != "--lower" else ""
         if close and (option != "--lower" or close[0] != "flat"):
-            raise ParameterError(
-                f"{option} {text!r}: no such file; did you mean `{close[0]}`?"
-            )
+            raise ParameterError(f"{option} {text!r}: no such file; did you mean `{close[0]}`?")
         raise ProfileReadError(
             f"{option} {text!r}: no such file (a body is a FILE, {choices}"
             "or generated:D=1.5,seed=3)"
@@ -573,7 +572,6 @@ def read_body(
     (``--upper-line``/``--upper-unit`` for the upper file).
     """
     from ..io import read_profile
-
     from ..io._errors import ReadOptionError
 
     read = reading.upper_read if upper else reading.read

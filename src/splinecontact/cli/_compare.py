@@ -105,7 +105,12 @@ def register(app: typer.Typer) -> None:
         forces: Annotated[int, typer.Option(help="Number of forces compared.")] = 20,
         tol: Annotated[float, typer.Option(help="BEM tolerance [1].")] = BEM_TOLERANCE,
         max_iterations: Annotated[
-            int, typer.Option("--max-iterations", help="BEM iteration limit per solve (a force that fails is retried in smaller load steps).")
+            int,
+            typer.Option(
+                "--max-iterations",
+                help="BEM iteration limit per solve (a force that fails is retried in "
+                "smaller load steps).",
+            ),
         ] = BEM_MAX_ITERATIONS,
         max_contact_fraction: Annotated[
             float,

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ..errors import ParameterError
 from ._common import MAX_SEED, OverwriteOpt, handle_errors
+
+if TYPE_CHECKING:
+    from ..profile import Profile
 
 __all__ = ["register"]
 
@@ -86,6 +89,7 @@ def register(app: typer.Typer) -> None:
             "n_points": n_points, "length": length, "wavelength": wavelength, "gamma": gamma,
             "directions": directions, "n_max": n_max, "ra": ra, "amplitude_law": amplitude_law,
         }  # fmt: skip
+        profiles: tuple[Profile, ...]
         try:
             if pair:
                 profiles = weierstrass_mandelbrot_pair(dimension, seed=seed, **options)

@@ -45,8 +45,8 @@ if TYPE_CHECKING:
     from ..results import SimulationResult
 
 __all__ = [
-    "OutputWriteError",
     "RESULT_SUFFIXES",
+    "OutputWriteError",
     "parse_generated_spec",
     "plot_result",
     "register",
@@ -65,8 +65,7 @@ def _check_result_suffix(output: Path) -> None:
     if output.suffix.lower() not in RESULT_SUFFIXES:
         known = ", ".join(f"{k} ({v})" for k, v in RESULT_SUFFIXES.items())
         raise OutputWriteError(
-            f"-o {output}: unknown result format {output.suffix or '(no extension)'!r}; "
-            f"use {known}"
+            f"-o {output}: unknown result format {output.suffix or '(no extension)'!r}; use {known}"
         )
 
 
@@ -141,7 +140,9 @@ def simulate_command(
     ],
     output: Annotated[
         Path,
-        typer.Option("--output", "-o", help="Result file: .nc (netCDF-4) or .csv (units in header)."),
+        typer.Option(
+            "--output", "-o", help="Result file: .nc (netCDF-4) or .csv (units in header)."
+        ),
     ],
     upper: Annotated[
         str,
@@ -201,8 +202,7 @@ def simulate_command(
         math.isfinite(final_displacement) and 0 < final_displacement < 1e100
     ):
         raise ParameterError(
-            f"--final-displacement {final_displacement!r} must be a positive finite length "
-            "in µm"
+            f"--final-displacement {final_displacement!r} must be a positive finite length in µm"
         )
     reading = profile_reading(
         file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
@@ -230,9 +230,7 @@ def simulate_command(
         bodies.lower, bodies.upper, result.curves, alpha=alpha, x0=x0
     ):
         warn(item.message)
-    write_result(
-        result, output, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec}
-    )
+    write_result(result, output, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec})
     curves = result.curves
     typer.echo(
         f"final displacement {float(curves['displacement'][-1]) * 1e3:.4g} nm, "
