@@ -95,8 +95,13 @@ def _native_stderr_held() -> Iterator[list[bytes]]:
     saved = os.dup(2)
     spool = tempfile.TemporaryFile()
     old_stderr = sys.stderr
-    replacement = open(os.dup(saved), "w", encoding=old_stderr.encoding or "utf-8",
-                       errors="backslashreplace", buffering=1)  # fmt: skip
+    replacement = io.TextIOWrapper(
+        open(os.dup(saved), "wb", buffering=0),  # closed with it in the finally below
+        encoding=old_stderr.encoding or "utf-8",
+        errors="backslashreplace",
+        line_buffering=True,
+        write_through=True,
+    )
     os.dup2(spool.fileno(), 2)
     sys.stderr = replacement
     try:
