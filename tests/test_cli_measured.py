@@ -628,3 +628,15 @@ def test_new_user_walkthrough_with_the_three_samples(tmp_path: Path) -> None:
     proc = _run("plot", "h.nc", "-o", "figs", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     assert len(list((tmp_path / "figs").glob("*.png"))) == 4
+
+
+def test_plot_of_a_study_export_says_what_plot_takes(tmp_path: Path) -> None:
+    export = tmp_path / "export.nc"
+    xr.Dataset(
+        {"normal_force": (("realization", "step"), np.zeros((2, 3)), {"units": "mN/µm"})}
+    ).to_netcdf(export, engine="h5netcdf")
+    result = runner.invoke(app, ["plot", str(export), "-o", str(tmp_path / "figs")])
+    assert result.exit_code == 1
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "study export" in lines[0], lines
+    assert not (tmp_path / "figs").exists()

@@ -364,6 +364,12 @@ def plot_result(result_file: Path, out_dir: Path, *, overwrite: bool) -> list[Pa
             f"{result_file}: not a readable netCDF result of `splinecontact simulate` "
             f"({type(exc).__name__}: {exc})"
         ) from None
+    force = ds.variables.get("normal_force")
+    if force is not None and force.dims != ("step",):
+        raise ParameterError(
+            f"{result_file} holds curves over {', '.join(map(str, force.dims))} (a study "
+            "export?); `plot FILE.nc` draws one `simulate` result, `plot STORE` a study store"
+        )
     from ..plotting import result_figures
 
     figures = result_figures(ds, title=result_file.name)
