@@ -428,17 +428,25 @@ def _number(spec: str, name: str, text: str, kind: type) -> Any:
         if value not in ("hurst", "as_printed"):
             raise ParameterError(f"{spec!r}: {name}={value!r}: use 'hurst' or 'as_printed'")
         return value
-    try:
-        number = float(value)
-    except ValueError:
-        raise ParameterError(f"{spec!r}: {name}={value!r} is not a valid {kind.__name__}") from None
-    if not math.isfinite(number):
-        raise ParameterError(f"{spec!r}: {name}={value!r} must be a finite number")
-    if kind is float:
-        return number
-    if number != int(number) or abs(number) > MAX_SEED:
-        raise ParameterError(f"{spec!r}: {name}={value!r} is not a valid int (whole number)")
-    integer = int(value) if value.lstrip("+-").isdigit() else int(number)
+    digits = value.lstrip("+-")
+    if kind is int and digits.isdigit() and digits.isascii():
+        integer = int(value)  # exact, however large
+        if abs(integer) > MAX_SEED:
+            raise ParameterError(f"{spec!r}: {name}={value} is out of range (≥ 2^63)")
+    else:
+        try:
+            number = float(value)
+        except ValueError:
+            raise ParameterError(
+                f"{spec!r}: {name}={value!r} is not a valid {kind.__name__}"
+            ) from None
+        if not math.isfinite(number):
+            raise ParameterError(f"{spec!r}: {name}={value!r} must be a finite number")
+        if kind is float:
+            return number
+        if number != int(number) or abs(number) >= 2.0**63:
+            raise ParameterError(f"{spec!r}: {name}={value!r} is not a valid int (whole number)")
+        integer = int(number)
     if name == "seed" and not 0 <= integer <= MAX_SEED:
         raise ParameterError(f"{spec!r}: seed={value} must be an integer 0 ≤ seed < 2^63")
     if name != "seed" and integer < 0:
@@ -483,7 +491,7 @@ def parse_generated_spec(spec: str, *, require_dimension: bool = True) -> dict[s
 
 def format_generated_spec(kwargs: dict[str, Any]) -> str:
     """The ``generated:`` spec text of keyword arguments (``D`` first, then ``seed``)."""
-    parts = [f"D={kwargs['dimension']:g}"]
+    parts = [f"D={kwargs['dimension']!r}"]
     parts += [f"{k}={kwargs[k]}" for k in _GENERATED_KEYS if k != "dimension" and k in kwargs]
     return "generated:" + ",".join(parts)
 
