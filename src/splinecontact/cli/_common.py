@@ -57,6 +57,15 @@ __all__ = [
     "profile_reading",
 ]
 
+#: The body-spec grammar, shown under the options of every command that takes a body.
+BODY_SPEC_HELP = (
+    "Bodies: FILE (read with the options above), flat (upper only), or "
+    "generated:D=1.5,seed=3,n_points=65536,length=100 (keys D, seed, n_points, length [µm], "
+    "wavelength [µm], gamma, directions, n_max, ra [µm], amplitude_law: the study-file names; "
+    "without a seed one is drawn, printed and stored; without n_points/length the grid of a "
+    "FILE body is used). --upper generated: the lower's parameters with seed + 1."
+)
+
 #: Largest seed accepted (the study files' range: 0 ≤ seed < 2⁶³).
 MAX_SEED = 2**63 - 1
 

@@ -15,6 +15,7 @@ import typer
 
 from ..errors import ParameterError
 from ._common import (
+    BODY_SPEC_HELP,
     CropOpt,
     DetrendOpt,
     DuplicatesOpt,
@@ -71,7 +72,7 @@ def _check_output_folder(output: Path, overwrite: bool, inputs: list[Path]) -> N
 def register(app: typer.Typer) -> None:
     """Add ``compare`` to ``app``."""
 
-    @app.command()
+    @app.command(epilog=BODY_SPEC_HELP)
     @handle_errors
     def compare(
         lower: Annotated[

@@ -14,6 +14,7 @@ import typer
 
 from ..errors import OutputError, ParameterError
 from ._common import (
+    BODY_SPEC_HELP,
     CropOpt,
     DetrendOpt,
     DuplicatesOpt,
@@ -385,5 +386,5 @@ def plot_result(result_file: Path, out_dir: Path, *, overwrite: bool) -> list[Pa
 
 def register(app: typer.Typer) -> None:
     """Add ``simulate`` and ``inspect`` to ``app``."""
-    app.command("simulate")(simulate_command)
+    app.command("simulate", epilog=BODY_SPEC_HELP)(simulate_command)
     app.command("inspect")(inspect_command)
