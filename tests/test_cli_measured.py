@@ -665,3 +665,13 @@ def test_generated_spec_round_trip(
     assert parsed["amplitude_law"] == amplitude_law
     # the recorded spec repeats the run: every value read back exactly
     assert parsed == kwargs
+
+
+@pytest.mark.parametrize("command", ["inspect", "simulate"])
+def test_devices_and_folders_are_not_read(tmp_path: Path, command: str) -> None:
+    for source, fragment in (("/dev/zero", "not a regular file"), (str(tmp_path), "folder")):
+        args = [source] if command == "inspect" else ["--lower", source, "-o", "x.nc"]
+        result = runner.invoke(app, [command, *args])
+        assert result.exit_code == 1
+        lines = result.output.strip().splitlines()
+        assert len(lines) == 1 and fragment in lines[0], lines

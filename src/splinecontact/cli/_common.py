@@ -550,6 +550,10 @@ def parse_body_spec(text: str, *, option: str) -> BodySpec:
         )
     if path.is_dir():
         raise ProfileReadError(f"{option} {text!r} is a folder; give a profile file")
+    if not path.is_file():
+        raise ProfileReadError(
+            f"{option} {text!r} is not a regular file (a device or pipe); give a profile file"
+        )
     return BodySpec(stripped, "file")
 
 

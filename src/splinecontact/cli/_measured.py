@@ -12,9 +12,10 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ..errors import OutputError, ParameterError
+from ..errors import OutputError, ParameterError, ProfileReadError
 from ._common import (
     BODY_SPEC_HELP,
+    BodySpec,
     CropOpt,
     DetrendOpt,
     DuplicatesOpt,
@@ -288,10 +289,16 @@ def inspect_command(
         nonuniform=nonuniform, resample_spacing=resample_spacing, crop=crop,
         zero_origin=zero_origin, detrend=detrend,
     )  # fmt: skip
-    spec = parse_body_spec(str(file), option="inspect")
-    if spec.kind != "file":
-        raise ParameterError(f"inspect {file}: give a profile file")
-    profile = read_body(spec, reading)
+    if not file.is_file():
+        what = (
+            "no such file"
+            if not file.exists()
+            else "is a folder"
+            if file.is_dir()
+            else "is not a regular file (a device or pipe)"
+        )
+        raise ProfileReadError(f"{file}: {what}; give a profile file")
+    profile = read_body(BodySpec(str(file), "file"), reading)
     meta = profile.metadata
     units = meta.get("units", {})
     rows = [
