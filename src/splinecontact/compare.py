@@ -22,6 +22,7 @@ Compared quantities (at equal force F per unit thickness [mN/µm]):
 from __future__ import annotations
 
 import csv
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -30,10 +31,30 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import bem
-from .errors import ParameterError
+from .errors import NoConvergenceError, ParameterError
 from .profile import Profile
 
-__all__ = ["COLUMNS", "Comparison", "compare_profiles", "write_figure", "write_table"]
+__all__ = [
+    "COLUMNS",
+    "COMPARE_MAX_ITERATIONS",
+    "MAX_BISECTIONS",
+    "MAX_CONTACT_FRACTION",
+    "Comparison",
+    "compare_profiles",
+    "write_figure",
+    "write_table",
+]
+
+#: Share of the profile in exact contact [1] at which a comparison stops (near full contact the
+#: mean gap tends to zero and ratios to it are meaningless).
+MAX_CONTACT_FRACTION = 0.9
+
+#: BEM iteration limit per solve [1] in a comparison (converged solves take tens to hundreds;
+#: a solve that has not converged by then is approached again in smaller load steps).
+COMPARE_MAX_ITERATIONS = 5000
+
+#: Halvings of a load step tried when a BEM solve does not converge.
+MAX_BISECTIONS = 2
 
 #: Columns of the comparison table: name -> (units, description).
 COLUMNS: dict[str, tuple[str, str]] = {
@@ -97,6 +118,40 @@ def _select_steps(force: NDArray[np.float64], n_forces: int) -> NDArray[np.int64
     return np.unique(np.asarray(chosen, dtype=np.int64))
 
 
+def _solve_in_substeps(
+    problem: bem.ContactProblem,
+    load: float,
+    initial: NDArray[np.float64] | None,
+    initial_load: float,
+    tol: float,
+    max_iterations: int,
+    depth: int = 0,
+) -> bem.BEMStep:
+    """Solve at mean pressure ``load`` [GPa], warm-started; on failure approach it in halves.
+
+    A new contact spot far from the loaded ones can make the constrained conjugate gradients
+    cycle from a warm start; approaching the load from the last converged state in smaller
+    steps lets the contact set grow gradually (at most :data:`MAX_BISECTIONS` halvings).
+    """
+    try:
+        return bem.solve_pressure(
+            problem,
+            load,
+            initial_pressure=initial,
+            tol=tol,
+            max_iterations=max_iterations,
+            fields=True,
+        )
+    except NoConvergenceError:
+        if depth >= MAX_BISECTIONS:
+            raise
+    middle = 0.5 * (initial_load + load)
+    half = _solve_in_substeps(
+        problem, middle, initial, initial_load, tol, max_iterations, depth + 1
+    )
+    return _solve_in_substeps(problem, load, half.pressure, middle, tol, max_iterations, depth + 1)
+
+
 def compare_profiles(
     lower: Profile,
     upper: Profile | Literal["flat"] = "flat",
@@ -109,6 +164,9 @@ def compare_profiles(
     x0: float = 1.0,
     n_forces: int = 20,
     tol: float = bem.DEFAULT_TOLERANCE,
+    max_iterations: int = COMPARE_MAX_ITERATIONS,
+    max_contact_fraction: float = MAX_CONTACT_FRACTION,
+    progress: Callable[[str], None] | None = None,
 ) -> Comparison:
     """Run SAD and the exact BEM reference on the same smoothed geometry at matched forces.
 
@@ -132,16 +190,43 @@ def compare_profiles(
         Number of forces at which to compare [1] (evenly spaced up to SAD's largest force).
     tol : float
         BEM convergence tolerance [1] (see :mod:`splinecontact.bem`).
+    max_iterations : int
+        BEM iteration limit per solve [1]. A force that does not converge within it is
+        approached again from the last converged force in up to :data:`MAX_BISECTIONS`
+        halvings before the comparison stops.
+    max_contact_fraction : float
+        Share of the profile in exact contact [1] at which the comparison stops: states at or
+        near full contact (mean gap → 0) are not reported; a note says so.
+    progress : callable, optional
+        Called with one line of text before SAD and after each BEM force.
 
     Returns
     -------
     Comparison
+
+    Raises
+    ------
+    ParameterError
+        No SAD force below the exact full-contact force, or bad ``n_forces`` /
+        ``max_contact_fraction``.
+    NoConvergenceError
+        The BEM did not converge at one force; the message names the force and what to change.
     """
+    import time
+
     from .contact import simulate
     from .spline import fit_spline
 
-    if n_forces < 1:
-        raise ParameterError(f"n_forces must be ≥ 1, got {n_forces}")
+    say = progress if progress is not None else (lambda _text: None)
+    if isinstance(n_forces, bool) or int(n_forces) != n_forces or n_forces < 1:
+        raise ParameterError(f"n_forces must be an integer ≥ 1, got {n_forces!r}")
+    if not 0.0 < max_contact_fraction <= 1.0:
+        raise ParameterError(
+            f"max_contact_fraction must be in (0, 1], got {max_contact_fraction!r}"
+        )
+    n = lower.n_points
+    say(f"SAD: {steps} steps on {n} points")
+    t0 = time.perf_counter()
     result = simulate(
         lower,
         upper,
@@ -155,7 +240,6 @@ def compare_profiles(
     composite = fit_spline(lower, alpha=alpha, x0=x0).f
     if not isinstance(upper, str):
         composite = composite + fit_spline(upper, alpha=alpha, x0=x0).f
-    n = lower.n_points
     smoothed = Profile(lower.x, composite, metadata={"source": "SAD spline, composite"})
     problem = bem.contact_problem(bem.mirror_extend(smoothed), e_star=e_star)
     segment = n * lower.dx
@@ -177,9 +261,57 @@ def compare_profiles(
             f"({p_full * segment:.4g} mN/µm; largest SAD force {force_curve.max():.4g} mN/µm); "
             "change the final displacement or the number of steps"
         )
+    say(
+        f"SAD done in {time.perf_counter() - t0:.1f} s; exact BEM at {len(keep)} forces on "
+        f"{problem.n_points} nodes (mirrored), tol {tol:g}, ≤ {max_iterations} iterations each"
+    )
+    solved: list[bem.BEMStep] = []
+    previous: NDArray[np.float64] | None = None
+    previous_load = 0.0
+    for k, step_index in enumerate(keep):
+        force = float(force_curve[step_index])
+        t1 = time.perf_counter()
+        try:
+            state = _solve_in_substeps(
+                problem, force / segment, previous, previous_load, tol, max_iterations
+            )
+        except NoConvergenceError as exc:
+            raise NoConvergenceError(
+                f"the exact BEM did not converge at force {k + 1} of {len(keep)} "
+                f"(F = {force:.4g} mN/µm, SAD step {step_index}): {exc}; to go on, raise "
+                "max_iterations (--max-iterations) or tol (--tol), lower the final "
+                "displacement (--final-displacement-factor), remove form (--detrend) or use "
+                "fewer points (--crop / --resample-spacing)"
+            ) from None
+        fraction = state.contact_nodes / problem.n_points
+        say(
+            f"BEM force {k + 1}/{len(keep)}: F = {force:.4g} mN/µm, exact contact "
+            f"{state.contact_nodes} of {problem.n_points} nodes ({100 * fraction:.3g} %), "
+            f"{state.iterations} iterations, "
+            f"{time.perf_counter() - t1:.1f} s"
+        )
+        if fraction >= max_contact_fraction:
+            notes.append(
+                f"stopped at force {k + 1} of {len(keep)} (F = {force:.4g} mN/µm): the exact "
+                f"contact covers {100 * fraction:.0f} % of the profile (limit "
+                f"{100 * max_contact_fraction:.0f} %, near full contact), so it and the "
+                f"{len(keep) - k - 1} larger force(s) are not reported"
+            )
+            say(notes[-1])
+            break
+        solved.append(state)
+        previous, previous_load = state.pressure, force / segment
+    if not solved:
+        raise ParameterError(
+            f"the exact contact is near full contact (≥ {100 * max_contact_fraction:.0f} % of "
+            f"the profile) already at the smallest compared force {force_curve[keep[0]]:.4g} "
+            "mN/µm; lower the final displacement (--final-displacement-factor) or remove form "
+            "(--detrend)"
+        )
+    keep = keep[: len(solved)]
+    path = bem.BEMPath(tuple(solved), problem.e_star, problem.dx, problem.n_points, float(tol))
     idx = np.asarray(keep, dtype=np.int64)
     forces = force_curve[idx]
-    path = bem.load_path(problem, forces / segment, tol=tol, fields=True)
 
     bem_len = np.empty(idx.size)
     bem_sub = np.empty(idx.size)
@@ -226,6 +358,8 @@ def compare_profiles(
         "alpha": float(alpha),
         "x0_um": float(x0),
         "bem_tolerance": float(tol),
+        "bem_max_iterations": int(max_iterations),
+        "max_contact_fraction": float(max_contact_fraction),
         "bem_periodic_extension": "mirror",
         "lower_source": str(lower.metadata.get("source", "?")),
         "upper_source": "flat" if isinstance(upper, str) else str(upper.metadata.get("source")),

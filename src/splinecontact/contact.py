@@ -671,6 +671,12 @@ def simulate(
         steps < 1, E* ≤ 0, G* < 0, μ0 < 0, α ≤ 0, x0 ≤ 0, final displacement ≤ 0, ...
     GridMismatchError
         The two profiles do not share a grid.
+
+    Warns
+    -----
+    splinecontact.diagnostics.SimulationWarning
+        A body dominated by tilt or form, a grid too coarse for the spline, or a final contact
+        area near full contact (see :mod:`splinecontact.diagnostics`).
     """
     if isinstance(steps, bool) or int(steps) != steps or steps < 1:
         raise ParameterError(f"steps = {steps!r} must be an integer ≥ 1 (paper: 1000)")
@@ -717,6 +723,9 @@ def simulate(
         "length": lower.length,
     }
     scalars = {**stats, "final_displacement": float(geometry.displacement[-1])}
+    from .diagnostics import warn_simulation  # form, coarse grid, near-full contact
+
+    warn_simulation(lower, upper, curves, alpha=alpha, x0=x0)
     return SimulationResult(
         curves=curves,
         scalars=scalars,

@@ -208,17 +208,23 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     -------
     SimulationResult
     """
+    import warnings
+
     from .contact import simulate
+    from .diagnostics import SimulationWarning
     from .generate import child_seed, weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 
     dimension = float(parameters["dimension"])
     gen = {k: parameters[k] for k in _GENERATOR_KEYS}
     sim = {k: parameters[k] for k in _SIMULATE_KEYS}
-    if parameters["contact_type"] == "rough-on-rough":
-        lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
-        return simulate(lower, upper, **sim)
-    lower = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
-    return simulate(lower, "flat", **sim)
+    with warnings.catch_warnings():
+        # per-realization diagnostics would repeat once per realization (and from workers)
+        warnings.simplefilter("ignore", SimulationWarning)
+        if parameters["contact_type"] == "rough-on-rough":
+            lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
+            return simulate(lower, upper, **sim)
+        lower = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
+        return simulate(lower, "flat", **sim)
 
 
 # --- batches ------------------------------------------------------------------------------------

@@ -15,7 +15,10 @@ __all__ = ["register"]
 
 @handle_errors
 def plot(
-    store: Annotated[Path, typer.Argument(help="Study store (the -o of `study run`).")],
+    store: Annotated[
+        Path,
+        typer.Argument(help="Study store (the -o of `study run`), or a `simulate` result (.nc)."),
+    ],
     out_dir: Annotated[
         Path, typer.Option("-o", "--out", help="Directory for the figures (PNG and SVG).")
     ] = Path("figures"),
@@ -39,8 +42,21 @@ def plot(
             help="Also draw Figs. 3a, 4, 5, 8, 9 from regenerated profiles.",
         ),
     ] = True,
+    overwrite: Annotated[
+        bool, typer.Option("--overwrite", help="Replace what splinecontact wrote in -o before.")
+    ] = False,
 ) -> None:
-    """Draw every figure of the paper (Figs. 3a, 4, 5, 8–12) from a study store."""
+    """Draw every figure of the paper (Figs. 3a, 4, 5, 8–12) from a study store.
+
+    Given one `simulate` result (.nc), draw its F_N–δ_N, F_T–δ_N, A_S–F_N and mean
+    separation–F_N curves instead.
+    """
+    if store.suffix.lower() == ".nc" and store.is_file():
+        from ._measured import plot_result
+
+        files = plot_result(store, out_dir, overwrite=overwrite)
+        typer.echo(f"wrote {len(files)} figures to {out_dir}")
+        return
     from ..plotting import make_figures
     from ..study import open_study
 

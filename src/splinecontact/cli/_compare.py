@@ -1,81 +1,101 @@
 """``splinecontact compare``: SAD against the exact elastic reference (BEM) on one geometry.
 
 The comparison itself lives in :mod:`splinecontact.compare`; this module reads the options.
+Bodies are specs (FILE, ``flat``, ``generated:D=1.5,seed=3``) read with the shared options of
+:mod:`splinecontact.cli._common`, exactly as ``simulate`` reads them.
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated
 
-import numpy as np
 import typer
 
-from .. import bem
-from ..compare import compare_profiles, write_figure, write_table
 from ..errors import ParameterError
-from ..profile import Profile
-from ._common import handle_errors
+from ._common import (
+    BODY_SPEC_HELP,
+    CropOpt,
+    DetrendOpt,
+    DuplicatesOpt,
+    FormatOpt,
+    HeightUnitOpt,
+    LineOpt,
+    NonuniformOpt,
+    OrderOpt,
+    OverwriteOpt,
+    QuietOpt,
+    ResampleSpacingOpt,
+    SpacingOpt,
+    UndefinedOpt,
+    UnitOpt,
+    UpperCropOpt,
+    UpperLineOpt,
+    UpperUnitOpt,
+    ZeroOriginOpt,
+    handle_errors,
+    load_bodies,
+    parse_body_spec,
+    profile_reading,
+)
 
 __all__ = ["register"]
 
+#: Grid points of a generated body without n_points/length and no file to copy a grid from
+#: (the BEM reference costs far more than SAD; 2¹⁶ points take seconds).
+COMPARE_N_POINTS = 65_536
 
-def _load_body(
-    spec: str,
-    *,
-    dimension: float,
-    seed: int | None,
-    n_points: int,
-    length: float,
-    wavelength: float,
-    ra: float,
-    amplitude_law: str,
-) -> Profile:
-    from ..generate import weierstrass_mandelbrot
+#: Defaults of the BEM reference (splinecontact.bem.DEFAULT_TOLERANCE and
+#: splinecontact.compare.COMPARE_MAX_ITERATIONS, repeated so ``--help`` does not import them).
+BEM_TOLERANCE = 1e-10
+BEM_MAX_ITERATIONS = 5000
 
-    if spec == "generated":
-        return weierstrass_mandelbrot(
-            dimension,
-            n_points=n_points,
-            length=length,
-            wavelength=wavelength,
-            ra=ra,
-            amplitude_law=amplitude_law,  # type: ignore[arg-type]
-            seed=seed,
+
+def _check_output_folder(output: Path, overwrite: bool, inputs: list[Path]) -> None:
+    """Refuse, before any computation, an output folder the output rule would refuse later."""
+    from ..errors import OutputExistsError, UnsafeOutputError
+
+    if output.exists() and not output.is_dir():
+        raise UnsafeOutputError(f"-o {output} is a file; give a folder name")
+    written = {(output / name).resolve() for name in ("", "compare.csv", "compare.png")}
+    for path in inputs:
+        if path.resolve() in written:
+            raise UnsafeOutputError(f"-o {output} would replace the input {path}")
+    if output.is_dir() and any(output.iterdir()) and not overwrite:
+        raise OutputExistsError(
+            f"-o {output} exists and is not empty; choose another folder or pass --overwrite "
+            "(which replaces only what splinecontact wrote there)"
         )
-    return _read(Path(spec))
-
-
-def _read(path: Path) -> Profile:
-    try:
-        from ..io import read_profile
-    except ImportError:  # pragma: no cover - the reader ships with the package
-        with np.load(path) as data:
-            return Profile(data["x"], data["z"], metadata={"source": str(path)})
-    return read_profile(path)
 
 
 def register(app: typer.Typer) -> None:
     """Add ``compare`` to ``app``."""
 
-    @app.command()
+    @app.command(epilog=BODY_SPEC_HELP)
     @handle_errors
     def compare(
         lower: Annotated[
             str,
-            typer.Option(help="Lower profile: a file, or 'generated' (Weierstrass–Mandelbrot)."),
+            typer.Option(
+                "--lower",
+                help="Lower body: FILE or generated:D=1.5,seed=3 (default n_points=65536).",
+            ),
         ],
         upper: Annotated[
             str,
-            typer.Option(help="Upper body: 'flat', a file, or 'generated' (independent seed)."),
+            typer.Option(
+                "--upper",
+                help="Upper body: flat, FILE, generated:D=..,seed=.. or generated (the "
+                "lower's parameters, next seed).",
+            ),
         ] = "flat",
         output: Annotated[
-            Path, typer.Option("-o", "--output", help="Table to write (CSV, units in header).")
-        ] = Path("compare.csv"),
-        figure: Annotated[
-            Path | None,
-            typer.Option(help="Figure to write (PNG); default: the table's name with .png."),
-        ] = None,
+            Path,
+            typer.Option(
+                "-o", "--output", help="Folder to write compare.csv (units in header) and .png."
+            ),
+        ] = Path("compare"),
         e_star: Annotated[float, typer.Option(help="Effective modulus E* [GPa].")] = 10.0,
         steps: Annotated[int, typer.Option(help="SAD displacement steps.")] = 1000,
         final_displacement_factor: Annotated[
@@ -84,56 +104,96 @@ def register(app: typer.Typer) -> None:
         alpha: Annotated[float, typer.Option(help="Spline tightness exponent α (eq. 3).")] = 2.0,
         x0: Annotated[float, typer.Option(help="Spline unit length x0 [µm] (eqs. 2–3).")] = 1.0,
         forces: Annotated[int, typer.Option(help="Number of forces compared.")] = 20,
-        tol: Annotated[float, typer.Option(help="BEM tolerance.")] = bem.DEFAULT_TOLERANCE,
-        dimension: Annotated[
-            float, typer.Option("-D", "--dimension", help="Fractal dimension D (generated).")
-        ] = 1.5,
-        seed: Annotated[int | None, typer.Option(help="Seed (generated profiles).")] = None,
-        n_points: Annotated[int, typer.Option(help="Grid points (generated).")] = 65_536,
-        length: Annotated[float, typer.Option(help="Profile length L0 [µm] (generated).")] = 100.0,
-        wavelength: Annotated[
-            float, typer.Option(help="Stochastic length L [µm] (generated).")
-        ] = 1.0,
-        ra: Annotated[float, typer.Option(help="Mean roughness R_A [µm] (generated).")] = 0.005,
-        amplitude_law: Annotated[
-            str, typer.Option(help="'hurst' (H = 2 − D) or 'as_printed' (generated).")
-        ] = "hurst",
+        tol: Annotated[float, typer.Option(help="BEM tolerance [1].")] = BEM_TOLERANCE,
+        max_iterations: Annotated[
+            int,
+            typer.Option(
+                "--max-iterations",
+                help="BEM iteration limit per solve (a force that fails is retried in "
+                "smaller load steps).",
+            ),
+        ] = BEM_MAX_ITERATIONS,
+        max_contact_fraction: Annotated[
+            float,
+            typer.Option(
+                "--max-contact-fraction",
+                help="Stop when the exact contact covers this share of the profile "
+                "(near full contact).",
+            ),
+        ] = 0.9,
+        quiet: QuietOpt = False,
+        overwrite: OverwriteOpt = False,
+        file_format: FormatOpt = None,
+        unit: UnitOpt = None,
+        height_unit: HeightUnitOpt = None,
+        spacing: SpacingOpt = None,
+        line: LineOpt = None,
+        upper_line: UpperLineOpt = None,
+        upper_unit: UpperUnitOpt = None,
+        undefined: UndefinedOpt = "refuse",
+        order: OrderOpt = "refuse",
+        duplicates: DuplicatesOpt = "refuse",
+        nonuniform: NonuniformOpt = "refuse",
+        resample_spacing: ResampleSpacingOpt = None,
+        crop: CropOpt = None,
+        upper_crop: UpperCropOpt = None,
+        zero_origin: ZeroOriginOpt = False,
+        detrend: DetrendOpt = "none",
     ) -> None:
-        """Compare SAD with the exact elastic solution (BEM) on the same smoothed profile."""
-        if amplitude_law not in ("hurst", "as_printed"):
-            raise ParameterError(f"--amplitude-law {amplitude_law!r}: use 'hurst' or 'as_printed'")
-        options: dict[str, Any] = {
-            "dimension": dimension, "n_points": n_points, "length": length,
-            "wavelength": wavelength, "ra": ra, "amplitude_law": amplitude_law,
-        }  # fmt: skip
-        if lower == "generated" and upper == "generated":
-            from ..generate import weierstrass_mandelbrot_pair
+        """Compare SAD with the exact elastic solution (BEM) on the same smoothed profile.
 
-            pair_options = {k: v for k, v in options.items() if k != "dimension"}
-            lower_body, upper_p = weierstrass_mandelbrot_pair(dimension, seed=seed, **pair_options)
-            upper_body: Profile | Literal["flat"] = upper_p
-        else:
-            lower_body = _load_body(lower, seed=seed, **options)
-            if upper == "flat":
-                upper_body = "flat"
-            elif upper == "generated":
-                upper_seed = None if seed is None else seed + 1
-                upper_body = _load_body(upper, seed=upper_seed, **options)
-            else:
-                upper_body = _read(Path(upper))
+        Progress goes to stderr (one line per BEM force; --quiet for none). Stops with one
+        line naming the force if the BEM does not converge, and reports no state at or near
+        full contact.
+        """
+        from ..compare import compare_profiles, write_figure, write_table
+        from ..outputs import atomic_path, prepare_output_folder
+
+        if not (math.isfinite(tol) and tol > 0):
+            raise ParameterError(f"--tol {tol!r} must be a positive number")
+        if max_iterations < 1:
+            raise ParameterError(f"--max-iterations {max_iterations} must be ≥ 1")
+        if forces < 1:
+            raise ParameterError(f"--forces {forces} must be ≥ 1")
+        if not (math.isfinite(max_contact_fraction) and 0 < max_contact_fraction <= 1):
+            raise ParameterError(
+                f"--max-contact-fraction {max_contact_fraction!r} must be in (0, 1]"
+            )
+        reading = profile_reading(
+            file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
+            line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
+            order=order, duplicates=duplicates, nonuniform=nonuniform,
+            resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
+            zero_origin=zero_origin, detrend=detrend,
+        )  # fmt: skip
+        specs = [
+            parse_body_spec(lower, option="--lower"),
+            parse_body_spec(upper, option="--upper"),
+        ]
+        _check_output_folder(output, overwrite, [s.path for s in specs if s.kind == "file"])
+        bodies = load_bodies(lower, upper, reading, default_n_points=COMPARE_N_POINTS)
+
+        def say(text: str) -> None:
+            if not quiet:
+                typer.echo(text, err=True)
+
+        for note in bodies.notes:
+            typer.echo(f"note: {note}", err=True)
         comparison = compare_profiles(
-            lower_body,
-            upper_body,
-            e_star=e_star,
-            steps=steps,
-            final_displacement_factor=final_displacement_factor,
-            alpha=alpha,
-            x0=x0,
-            n_forces=forces,
-            tol=tol,
-        )
-        table = write_table(comparison, output)
-        picture = write_figure(comparison, figure or output.with_suffix(".png"))
+            bodies.lower, bodies.upper, e_star=e_star, steps=steps,
+            final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
+            n_forces=forces, tol=tol, max_iterations=max_iterations,
+            max_contact_fraction=max_contact_fraction, progress=say,
+        )  # fmt: skip
+        comparison.parameters["lower"] = bodies.lower_spec
+        comparison.parameters["upper"] = bodies.upper_spec
+        folder = prepare_output_folder(output, overwrite=overwrite, command="compare")
+        table = folder.file("compare.csv")
+        with atomic_path(table) as tmp:
+            write_table(comparison, tmp)
+        picture = folder.file("compare.png")
+        with atomic_path(picture) as tmp:
+            write_figure(comparison, tmp)
         for note in comparison.notes:
             typer.echo(f"note: {note}")
         typer.echo(

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ..errors import ParameterError
-from ..generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-from ._common import handle_errors
+from ._common import MAX_SEED, OverwriteOpt, handle_errors
+
+if TYPE_CHECKING:
+    from ..profile import Profile
 
 __all__ = ["register"]
 
@@ -44,7 +46,13 @@ def register(app: typer.Typer) -> None:
             str,
             typer.Option(help="'hurst' (H = 2 − D) or 'as_printed' (eq. 1 as printed)."),
         ] = "hurst",
-        seed: Annotated[int | None, typer.Option(help="Seed of the random phases.")] = None,
+        seed: Annotated[
+            int | None,
+            typer.Option(
+                help="Seed of the random phases, 0 ≤ seed < 2^63 (default: drawn, printed and "
+                "stored in the file)."
+            ),
+        ] = None,
         pair: Annotated[
             bool,
             typer.Option(
@@ -52,27 +60,54 @@ def register(app: typer.Typer) -> None:
                 help="Write two independent profiles (spawned seeds) as NAME-lower / NAME-upper.",
             ),
         ] = False,
+        overwrite: OverwriteOpt = False,
     ) -> None:
         """Generate a fractal profile by eq. 1 of the paper and write it to a file."""
+        import contextlib
+        import secrets
+
+        from ..generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
         from ..io import write_profile
+        from ..outputs import atomic_path, check_output_file
 
         if amplitude_law not in ("hurst", "as_printed"):
             raise ParameterError(f"--amplitude-law {amplitude_law!r}: use 'hurst' or 'as_printed'")
+        if seed is not None and not 0 <= seed <= MAX_SEED:
+            raise ParameterError(f"--seed {seed} must be an integer 0 ≤ seed < 2^63")
+        if output.suffix.lower() not in (".npz", ".csv", ".txt"):
+            raise ParameterError(
+                f"-o {output}: unknown profile format {output.suffix or '(no extension)'!r}; "
+                "use .npz, .csv or .txt"
+            )
+        targets = _output_for_pair(output) if pair else (output,)
+        for target in targets:
+            check_output_file(target, overwrite=overwrite)
+        drawn = seed is None
+        if seed is None:
+            seed = secrets.randbelow(2**32)
         options = {
             "n_points": n_points, "length": length, "wavelength": wavelength, "gamma": gamma,
             "directions": directions, "n_max": n_max, "ra": ra, "amplitude_law": amplitude_law,
         }  # fmt: skip
-        if pair:
-            lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **options)
-            paths = _output_for_pair(output)
-            for profile, path in zip((lower, upper), paths, strict=True):
-                write_profile(profile, path)
-            written = f"{paths[0]} and {paths[1]}"
-            profile = lower
-        else:
-            profile = weierstrass_mandelbrot(dimension, seed=seed, **options)  # type: ignore[arg-type]
-            write_profile(profile, output)
-            written = str(output)
+        profiles: tuple[Profile, ...]
+        try:
+            if pair:
+                profiles = weierstrass_mandelbrot_pair(dimension, seed=seed, **options)
+            else:
+                profiles = (weierstrass_mandelbrot(dimension, seed=seed, **options),)  # type: ignore[arg-type]
+        except (OverflowError, FloatingPointError, ZeroDivisionError) as exc:
+            raise ParameterError(
+                f"these parameters cannot be generated ({type(exc).__name__}: {exc}); use "
+                "smaller values"
+            ) from None
+        with contextlib.ExitStack() as stack:
+            # every file to a temporary name first: all are renamed only if all were written
+            for profile, target in zip(profiles, targets, strict=True):
+                write_profile(profile, stack.enter_context(atomic_path(target)))
+        written = " and ".join(str(t) for t in targets)
+        profile = profiles[0]
+        if drawn:
+            typer.echo(f"note: seed {seed} (drawn at random; --seed {seed} repeats it)", err=True)
         dropped = profile.metadata["n_terms_dropped_above_nyquist"]
         note = f", {dropped} terms above Nyquist dropped" if dropped else ""
         typer.echo(

@@ -3,35 +3,35 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated
 
 import typer
 
-from ..errors import ParameterError
-from ..profile import Profile
-from ._common import handle_errors
+from ._common import (
+    CropOpt,
+    DetrendOpt,
+    DuplicatesOpt,
+    FormatOpt,
+    HeightUnitOpt,
+    LineOpt,
+    NonuniformOpt,
+    OrderOpt,
+    OverwriteOpt,
+    ResampleSpacingOpt,
+    SpacingOpt,
+    UndefinedOpt,
+    UnitOpt,
+    UpperCropOpt,
+    UpperLineOpt,
+    UpperUnitOpt,
+    ZeroOriginOpt,
+    handle_errors,
+    load_bodies,
+    parse_body_spec,
+    profile_reading,
+)
 
 __all__ = ["register"]
-
-
-def _body(spec: str, *, role: str, other: Profile | None = None) -> Profile | Literal["flat"]:
-    text = spec.strip()
-    if text.lower() == "flat":
-        if role == "lower":
-            raise ParameterError("--lower flat: the lower body must be a rough profile")
-        return "flat"
-    if text.lower().startswith("generated"):
-        from ..generate import weierstrass_mandelbrot
-        from ._measured import parse_generated_spec
-
-        kwargs: dict[str, Any] = parse_generated_spec(text)
-        if other is not None and "n_points" not in kwargs and "length" not in kwargs:
-            kwargs["n_points"] = other.n_points
-            kwargs["length"] = other.length
-        return weierstrass_mandelbrot(**kwargs)
-    from ..io import read_profile
-
-    return read_profile(Path(text))
 
 
 def register(app: typer.Typer) -> None:
@@ -54,7 +54,12 @@ def register(app: typer.Typer) -> None:
                 ),
             ),
         ],
-        output: Annotated[Path, typer.Option("-o", "--output", help="Result file (.nc).")],
+        output: Annotated[
+            Path,
+            typer.Option(
+                "-o", "--output", help="Result file: .nc (netCDF-4) or .csv (units in header)."
+            ),
+        ],
         upper: Annotated[
             str, typer.Option("--upper", help="Upper body: FILE, flat or generated:D=..,seed=..")
         ] = "flat",
@@ -68,9 +73,23 @@ def register(app: typer.Typer) -> None:
         mu0: Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")] = 0.3,
         alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1].")] = 2.0,
         x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm].")] = 1.0,
-        overwrite: Annotated[
-            bool, typer.Option("--overwrite", help="Replace an existing output file.")
-        ] = False,
+        overwrite: OverwriteOpt = False,
+        file_format: FormatOpt = None,
+        unit: UnitOpt = None,
+        height_unit: HeightUnitOpt = None,
+        spacing: SpacingOpt = None,
+        line: LineOpt = None,
+        upper_line: UpperLineOpt = None,
+        upper_unit: UpperUnitOpt = None,
+        undefined: UndefinedOpt = "refuse",
+        order: OrderOpt = "refuse",
+        duplicates: DuplicatesOpt = "refuse",
+        nonuniform: NonuniformOpt = "refuse",
+        resample_spacing: ResampleSpacingOpt = None,
+        crop: CropOpt = None,
+        upper_crop: UpperCropOpt = None,
+        zero_origin: ZeroOriginOpt = False,
+        detrend: DetrendOpt = "none",
     ) -> None:
         """Slide, press, unload or cycle the upper body along a load path (netCDF out).
 
@@ -80,20 +99,33 @@ def register(app: typer.Typer) -> None:
         from ..contact import simulate
         from ..friction import FrictionAnalysisError, static_friction, tangential_stiffness
         from ..loadpath import parse_path
-        from ..outputs import atomic_path, check_output_file
+        from ..outputs import check_output_file
+        from ._measured import _check_result_suffix, write_result
 
-        inputs = [p for p in (lower, upper) if Path(p).exists()]
+        _check_result_suffix(output)
+
+        reading = profile_reading(
+            file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
+            line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
+            order=order, duplicates=duplicates, nonuniform=nonuniform,
+            resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
+            zero_origin=zero_origin, detrend=detrend,
+        )  # fmt: skip
+        specs = [
+            parse_body_spec(lower, option="--lower"),
+            parse_body_spec(upper, option="--upper"),
+        ]
+        inputs = [s.path for s in specs if s.kind == "file"]
         out = check_output_file(output, overwrite=overwrite, inputs=inputs, option="--output")
         segments = parse_path(path)
-        lower_profile = _body(lower, role="lower")
-        assert isinstance(lower_profile, Profile)
-        upper_body = _body(upper, role="upper", other=lower_profile)
+        bodies = load_bodies(lower, upper, reading)
+        for note in bodies.notes:
+            typer.echo(f"note: {note}", err=True)
         result = simulate(
-            lower_profile, upper_body, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
+            bodies.lower, bodies.upper, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
             x0=x0, path=segments,
         )  # fmt: skip
-        with atomic_path(out) as tmp:
-            result.to_netcdf(tmp)
+        write_result(result, out, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec})
         c = result.curves
         line = (
             f"{len(c['displacement']) - 1} steps, "
