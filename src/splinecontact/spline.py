@@ -114,12 +114,18 @@ def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  #
 
 @numba.njit(cache=True, nogil=True)
 def _reinsch_uniform(
-    z: NDArray[np.float64], lam_grid: float, dx: float, dx2: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
+    z: NDArray[np.float64],
+    lam_grid: float,
+    dx: float,
+    dx2: float,
+    f: NDArray[np.float64],
+    slope: NDArray[np.float64],
+    second: NDArray[np.float64],
+) -> None:  # pragma: no cover
     """Smoothing spline on a uniform grid: return f [µm], f′ [1] and f″ [1/µm] at the knots.
 
-    The system is solved in grid units; f′ and f″ are divided by ``dx`` and ``dx2`` = dx² on
-    the way out.
+    Written into ``f``, ``slope`` and ``second``. The system is solved in grid units; f′ and
+    f″ are divided by ``dx`` and ``dx2`` = dx² on the way out.
 
     Solves ``(R + λ' QᵀQ) γ = Qᵀ z`` by an LDLᵀ factorisation of the pentadiagonal Toeplitz
     matrix (diagonals a, b, c) and forms ``f = z − λ' Q γ``.
@@ -164,7 +170,6 @@ def _reinsch_uniform(
             l1[i] = b / d[0]
             d[i] = a - l1[i] * l1[i] * d[0]
     # Forward substitution: y_i is kept in second[i + 1].
-    second = np.empty(n)
     second[0] = 0.0
     second[n - 1] = 0.0
     for i in range(m):
@@ -179,8 +184,6 @@ def _reinsch_uniform(
     # One backward pass: γ_{i+1} (grid units) by back substitution, and, as soon as the three
     # γ around a knot are known, f there and f′ one knot further right; a γ no longer needed is
     # scaled to 1/µm² in place. Same arithmetic, in the same order, as the separate passes.
-    f = np.empty(n)
-    slope = np.empty(n)
     for i in range(m - 1, -1, -1):
         value = second[i + 1] / d[min(i, last)]
         if i + 1 < m:
@@ -212,7 +215,6 @@ def _reinsch_uniform(
         f[0] = z[0] - lam_grid * g1
         slope[0] = ((f[1] - f[0]) - (2.0 * 0.0 + g1) / 6.0) / dx
         second[1] = g1 / dx2
-    return f, slope, second
 
 
 def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> SplineFit:
@@ -244,7 +246,10 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
     """
     dx = profile.dx
     lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
-    f, slope, second = _reinsch_uniform(profile.z, lam / dx**3, dx, dx**2)
+    # outputs allocated by numpy, which asks the kernel for huge pages on large arrays (fewer
+    # page faults than the kernel's own allocations at 10⁷ points)
+    f, slope, second = (np.empty(profile.z.size) for _ in range(3))
+    _reinsch_uniform(profile.z, lam / dx**3, dx, dx**2, f, slope, second)
     for array in (f, slope, second):
         array.setflags(write=False)
     return SplineFit(
