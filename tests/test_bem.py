@@ -443,7 +443,7 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
     from bem_legacy import legacy_load_path
 
     if not sparse_updates:  # every iteration re-applies the operator with an FFT pair
-        monkeypatch.setattr(bem, "_sparse_limit", lambda n: 0)
+        monkeypatch.setattr(bem, "_sparse_limit", lambda n: -1)
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 21) / 20
     path = bem.load_path(problem, loads, fields=True)

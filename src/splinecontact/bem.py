@@ -713,6 +713,75 @@ def _k_rescale(
     return total, count
 
 
+@numba.njit(cache=True, nogil=True, fastmath=_FAST)
+def _k_gap_and_direction(
+    p: NDArray[np.float64],
+    u: NDArray[np.float64],
+    z: NDArray[np.float64],
+    g: NDArray[np.float64],
+    t: NDArray[np.float64],
+    separation: float,
+    scale: float,
+    tol: float,
+    conjugate: bool,
+    g_norm_old: float,
+    may_step: bool,
+) -> tuple[float, float, float, float]:  # pragma: no cover - compiled
+    """The gap and residual; unless converged (or ``may_step`` is False), the new direction t.
+
+    Returns the residual, Σ_loaded g², Σ t and Σ g·t (the last two 0 when no direction).
+    """
+    worst_loaded, worst_free, g_norm = _k_gap(p, u, z, separation, g)
+    residual = max(worst_loaded, worst_free) / scale
+    if residual <= tol or not may_step:
+        return residual, g_norm, 0.0, 0.0
+    use_beta = conjugate and g_norm_old > 0.0
+    beta = g_norm / g_norm_old if use_beta else 0.0
+    t_sum, gt = _k_direction(p, g, t, beta, use_beta)
+    return residual, g_norm, t_sum, gt
+
+
+@numba.njit(cache=True, nogil=True, fastmath=_FAST)
+def _k_advance(
+    p: NDArray[np.float64],
+    u: NDArray[np.float64],
+    r: NDArray[np.float64],
+    t: NDArray[np.float64],
+    g: NDArray[np.float64],
+    z: NDArray[np.float64],
+    count: int,
+    t_sum: float,
+    gt: float,
+    tau_fallback: float,
+    mean_pressure: float,
+    column2: NDArray[np.float64],
+    changed: NDArray[np.int64],
+    delta: NDArray[np.float64],
+    limit: int,
+) -> tuple[float, int, bool, bool]:  # pragma: no cover - compiled
+    """Line search along t (r = A t), projected step, rescale to the mean pressure.
+
+    u follows p incrementally when few nodes changed (then returns Σ_loaded (u − z) and the
+    loaded count for the next iteration, and ``incremental`` True); otherwise u is left for the
+    caller to recompute. Also returns whether a node overlapped (conjugacy is then lost).
+    """
+    rt, r_loaded = _k_curvature(p, r, t)
+    denominator = rt - r_loaded / count * t_sum
+    tau = gt / denominator if denominator > 0.0 else tau_fallback
+    total, n_changed, overlap = _k_step(p, t, g, tau, changed, delta)
+    restart = total <= 0.0
+    if restart:  # every node was released: restart at the deepest overlap
+        p[np.argmin(g)] = 1.0
+        total = 1.0
+        overlap = True
+    factor = mean_pressure * p.size / total
+    incremental = not restart and n_changed <= limit
+    if incremental:
+        _k_add_columns(u, column2, changed, delta, n_changed)
+    loaded_sum, new_count = _k_rescale(p, u, r, z, tau, factor, incremental)
+    return loaded_sum, new_count, overlap, incremental
+
+
 class _Operator:
     """u = A p by a real FFT pair into preallocated buffers (no allocation per call)."""
 
@@ -728,7 +797,8 @@ class _Operator:
 
 
 #: Point loads changed in one iteration up to which their response is added column by column
-#: (k·n multiply-adds) instead of re-applying the operator with an FFT pair; per grid size.
+#: (k·n multiply-adds) instead of re-applying the operator with an FFT pair; per grid size
+#: (a negative limit re-applies the operator after every iteration).
 def _sparse_limit(n: int) -> int:
     return 3 * max(4, int(math.log2(max(n, 2))))
 
@@ -776,8 +846,10 @@ def _pk_load(
     iteration = 0
     while True:
         separation = -loaded_sum / count
-        worst_loaded, worst_free, g_norm = _k_gap(p, u, z, separation, g)
-        residual = max(worst_loaded, worst_free) / scale
+        residual, g_norm, t_sum, gt = _k_gap_and_direction(
+            p, u, z, g, t, separation, scale, tol, conjugate, g_norm_old,
+            iteration < max_iterations,
+        )  # fmt: skip
         if residual <= tol:
             if exact:
                 return _Solution(p, g, separation, iteration, residual)
@@ -789,26 +861,14 @@ def _pk_load(
         if iteration == max_iterations:
             break
         iteration += 1
-        use_beta = conjugate and g_norm_old > 0.0
-        beta = g_norm / g_norm_old if use_beta else 0.0
-        t_sum, gt = _k_direction(p, g, t, beta, use_beta)
         g_norm_old = g_norm
         apply(t, r)
-        rt, r_loaded = _k_curvature(p, r, t)
-        denominator = rt - r_loaded / count * t_sum
-        tau = gt / denominator if denominator > 0.0 else tau_fallback
-        total, n_changed, overlap = _k_step(p, t, g, tau, changed, delta)
+        loaded_sum, new_count, overlap, incremental = _k_advance(
+            p, u, r, t, g, z, count, t_sum, gt, tau_fallback, mean_pressure, column2, changed,
+            delta, limit,
+        )  # fmt: skip
         conjugate = not overlap
-        restart = total <= 0.0
-        if restart:  # every node was released: restart at the deepest overlap
-            p[np.argmin(g)] = 1.0
-            total = 1.0
-            conjugate = False
-        factor = mean_pressure * n / total
-        incremental = not restart and n_changed <= limit
-        if incremental:
-            _k_add_columns(u, column2, changed, delta, n_changed)
-        loaded_sum, count = _k_rescale(p, u, r, z, tau, factor, incremental)
+        count = new_count
         if not incremental:
             apply(p, u)
             loaded_sum, count = _k_loaded_sum(p, u, z)
