@@ -442,8 +442,9 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
     # pressures to the tolerance's scale, and the iteration count of the plain-numpy loop
     from bem_legacy import legacy_load_path
 
-    if not sparse_updates:  # every iteration re-applies the operator with an FFT pair
+    if not sparse_updates:  # every iteration re-applies the operator with an FFT pair,
         monkeypatch.setattr(bem, "_sparse_limit", lambda n: -1)
+        monkeypatch.setattr(bem, "_SMALL_FFT", 0)  # through the preallocated-buffer path
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 21) / 20
     path = bem.load_path(problem, loads, fields=True)
