@@ -18,43 +18,47 @@ import scipy.fft as sfft
 
 
 def main() -> None:
-    rng = np.random.default_rng(0)
     for n in (2**14, 2**16):
-        p = rng.random(n)
-        lam = rng.random(n // 2 + 1)
-        spectrum = np.empty(n // 2 + 1, dtype=np.complex128)
-        out = np.empty(n)
+        _one_size(n)
 
-        def scipy_new() -> None:
-            sfft.irfft(lam * sfft.rfft(p), n)
 
-        def scipy_workers() -> None:
-            sfft.irfft(lam * sfft.rfft(p, workers=2), n, workers=2)
+def _one_size(n: int) -> None:
+    rng = np.random.default_rng(0)
+    p = rng.random(n)
+    lam = rng.random(n // 2 + 1)
+    spectrum = np.empty(n // 2 + 1, dtype=np.complex128)
+    out = np.empty(n)
 
-        def numpy_out() -> None:
-            np.fft.rfft(p, out=spectrum)
-            np.multiply(spectrum, lam, out=spectrum)
-            np.fft.irfft(spectrum, n, out=out)
+    def scipy_new() -> None:
+        sfft.irfft(lam * sfft.rfft(p), n)
 
-        ways = {"scipy.fft": scipy_new, "scipy.fft workers=2": scipy_workers,
-                "numpy.fft out=": numpy_out}  # fmt: skip
-        calls = 200 if n <= 2**14 else 50
-        cpu: dict[str, list[float]] = {k: [] for k in ways}
-        wall: dict[str, list[float]] = {k: [] for k in ways}
-        for fn in ways.values():
-            fn()
-        for _ in range(7):
-            for name, fn in ways.items():
-                c0, w0 = time.process_time(), time.perf_counter()
-                for _ in range(calls):
-                    fn()
-                cpu[name].append((time.process_time() - c0) / calls)
-                wall[name].append((time.perf_counter() - w0) / calls)
-        for name in ways:
-            print(
-                f"n={n:6d} {name:22s} cpu {statistics.median(cpu[name]) * 1e6:7.1f} µs  "
-                f"wall {statistics.median(wall[name]) * 1e6:7.1f} µs"
-            )
+    def scipy_workers() -> None:
+        sfft.irfft(lam * sfft.rfft(p, workers=2), n, workers=2)
+
+    def numpy_out() -> None:
+        np.fft.rfft(p, out=spectrum)
+        np.multiply(spectrum, lam, out=spectrum)
+        np.fft.irfft(spectrum, n, out=out)
+
+    ways = {"scipy.fft": scipy_new, "scipy.fft workers=2": scipy_workers,
+            "numpy.fft out=": numpy_out}  # fmt: skip
+    calls = 200 if n <= 2**14 else 50
+    cpu: dict[str, list[float]] = {k: [] for k in ways}
+    wall: dict[str, list[float]] = {k: [] for k in ways}
+    for fn in ways.values():
+        fn()
+    for _ in range(7):
+        for name, fn in ways.items():
+            c0, w0 = time.process_time(), time.perf_counter()
+            for _ in range(calls):
+                fn()
+            cpu[name].append((time.process_time() - c0) / calls)
+            wall[name].append((time.perf_counter() - w0) / calls)
+    for name in ways:
+        print(
+            f"n={n:6d} {name:22s} cpu {statistics.median(cpu[name]) * 1e6:7.1f} µs  "
+            f"wall {statistics.median(wall[name]) * 1e6:7.1f} µs"
+        )
 
 
 if __name__ == "__main__":
