@@ -16,6 +16,8 @@ term m = M/2 has zero frequency and vanishes identically. Terms above the grid's
 1/(2 dx) would alias and are dropped (counted in the metadata). The remaining cosines are summed by
 an angle-addition (phasor rotation) recurrence, re-anchored with exact cos/sin every
 ``_BLOCK`` points, so the cost is O(points × terms) multiply-adds with no transcendental calls.
+The grid mean of the sum is known in closed form, so the kernel writes heights about their mean
+and sums |z| in the same pass; one more pass scales them to R_A.
 """
 
 from __future__ import annotations
@@ -84,21 +86,6 @@ def _seed_metadata(seed: SeedLike) -> dict[str, Any]:
     if isinstance(seed, np.random.Generator):
         return {"seed_entropy": None, "seed_spawn_key": None, "seed_note": "Generator passed"}
     return {"seed_entropy": None if seed is None else str(seed), "seed_spawn_key": []}
-
-
-@numba.njit(cache=True, fastmath=True, nogil=True)
-def _sum_cosines(
-    n_points: int,
-    dx: float,
-    omega: NDArray[np.float64],
-    amp_re: NDArray[np.float64],
-    amp_im: NDArray[np.float64],
-    block: int,
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Return Σ_k Re(A_k exp(i ω_k x_j)) for x_j = j·dx, by blockwise phasor rotation."""
-    out = np.empty(n_points)
-    _heights_kernel(out, dx, omega, amp_re, amp_im, block, -1.0, 0.0, 0.0)
-    return out
 
 
 @numba.njit(cache=True, fastmath=True, nogil=True)
