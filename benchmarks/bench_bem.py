@@ -1,4 +1,4 @@
-"""Benchmark of the boundary element reference solver (issue 7).
+"""Benchmark of the boundary element reference solver.
 
 100 load steps on a 2¹⁶-point self-affine profile (Hurst exponent 0.8) against a flat, up to about
 10 % contact, each step warm-started from the previous one (``splinecontact.bem.load_path``).

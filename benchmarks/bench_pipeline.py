@@ -1,4 +1,4 @@
-"""Per-stage timings and peak memory of one SAD realization (issue 3).
+"""Per-stage timings and peak memory of one SAD realization.
 
     python benchmarks/bench_pipeline.py [--sizes 1e4 1e5 1e6 1e7] [--repeats 5]
                                         [--realizations 100]

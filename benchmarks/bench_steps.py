@@ -1,4 +1,4 @@
-"""Cost of the loading loop against the number of steps (issue 3: linear in Σ closed-gap visits).
+"""Cost of the loading loop against the number of steps (linear in Σ closed-gap visits).
 
     python benchmarks/bench_steps.py
 

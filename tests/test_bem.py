@@ -424,3 +424,71 @@ def test_rough_load_path_to_ten_percent_contact():
     assert 0.05 < fraction[-1] < 0.2
     assert np.all(np.diff(path.column("mean_gap")) < 0)
     assert np.all(path.column("residual") <= bem.DEFAULT_TOLERANCE)
+
+
+# --- the fused solver against the legacy loop ------------------------------------------------
+
+
+def _rough_problem(n: int) -> bem.ContactProblem:
+    z = random_periodic(n, 1, hurst=0.8)
+    dx = 100.0 / z.size
+    slope = np.sqrt(np.mean((np.roll(z, -1) - z) ** 2)) / dx
+    return bem.contact_problem(z * 0.1 / slope, e_star=E_STAR, dx=dx)
+
+
+@pytest.mark.parametrize("sparse_updates", [True, False])
+def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
+    # 20 steps to ~10 % contact, tol 1e-10: same contact set at every step, mean gaps to 1e-9,
+    # pressures to the tolerance's scale, and the iteration count of the plain-numpy loop
+    from bem_legacy import legacy_load_path
+
+    if not sparse_updates:  # every iteration re-applies the operator with an FFT pair,
+        monkeypatch.setattr(bem, "_sparse_limit", lambda n: -1)
+        monkeypatch.setattr(bem, "_SMALL_FFT", 0)  # through the preallocated-buffer path
+    problem = _rough_problem(2**12)
+    loads = 0.048 * E_STAR * 0.1 * np.arange(1, 21) / 20
+    path = bem.load_path(problem, loads, fields=True)
+    legacy = legacy_load_path(problem, loads, bem.DEFAULT_TOLERANCE)
+    assert path.column("contact_nodes")[-1] / problem.n_points > 0.05
+    for step, old in zip(path.steps, legacy, strict=True):
+        assert step.pressure is not None
+        np.testing.assert_array_equal(step.pressure > 0.0, old.pressure > 0.0)
+        old_gap = old.separation - problem.mean_height
+        assert step.mean_gap == pytest.approx(old_gap, rel=1e-9, abs=0.0)
+        np.testing.assert_allclose(step.pressure, old.pressure, rtol=0, atol=1e-6 * loads[-1])
+    new_total = int(path.column("iterations").sum())
+    old_total = sum(s.iterations for s in legacy)
+    # rounding-level differences (summation order, FFT library) can move a conjugate-gradient
+    # restart by an iteration or two; the work must not grow
+    assert abs(new_total - old_total) <= 0.02 * old_total
+
+
+def test_returned_gap_is_that_of_the_returned_pressure():
+    # the displacement is updated incrementally inside the loop; what is returned must be the
+    # gap of the returned pressure recomputed from scratch
+    problem = _rough_problem(2**11)
+    step = bem.solve_pressure(problem, 0.02 * problem.full_contact_pressure, fields=True)
+    assert step.pressure is not None and step.gap is not None
+    u = problem.displacement(step.pressure)
+    separation = step.mean_gap + problem.mean_height
+    exact = np.clip(separation + u - problem.heights, 0.0, None)
+    exact[step.pressure > 0.0] = 0.0
+    scale = problem.rms_height
+    assert np.max(np.abs(exact - step.gap)) <= 2 * bem.DEFAULT_TOLERANCE * scale
+
+
+@given(seed=st.integers(0, 1000), k=st.integers(1, 12))
+@settings(max_examples=25, deadline=None)
+def test_point_load_columns_equal_the_operator(seed, k):
+    # the sparse update (response to a few point loads, added column by column) is A δ
+    rng = np.random.default_rng(seed)
+    n = 128
+    problem = bem.contact_problem(random_periodic(n, seed), e_star=E_STAR, dx=0.1)
+    nodes = rng.choice(n, size=k, replace=False).astype(np.int64)
+    weights = rng.normal(size=k)
+    delta = np.zeros(n)
+    delta[nodes] = weights
+    column = problem.displacement(np.eye(1, n, 0)[0])
+    u = np.zeros(n)
+    bem._k_add_columns(u, np.concatenate([column, column]), nodes, weights, k)
+    np.testing.assert_allclose(u, problem.displacement(delta), rtol=0, atol=1e-12)

@@ -124,3 +124,25 @@ def test_bad_parameters_raise(kwargs: dict, fragment: str) -> None:
     kwargs.setdefault("n_points", 1000)
     with pytest.raises(ParameterError, match=fragment):
         weierstrass_mandelbrot(dimension, **kwargs)
+
+
+def test_pair_shares_one_read_only_grid_and_matches_single_calls() -> None:
+    lower, upper = weierstrass_mandelbrot_pair(1.6, seed=4, n_points=4_001, length=0.4)
+    assert lower.x is upper.x and not lower.x.flags.writeable and not upper.z.flags.writeable
+    parent = np.random.SeedSequence(4)
+    alone = weierstrass_mandelbrot(
+        1.6, n_points=4_001, length=0.4, seed=np.random.SeedSequence(4, spawn_key=(1,))
+    )
+    assert parent.spawn_key == ()
+    assert np.array_equal(alone.z, upper.z) and np.array_equal(alone.x, upper.x)
+
+
+@pytest.mark.parametrize("n_points", [5, 6, 7, 1_001, 4_099])
+def test_heights_have_zero_mean_and_target_ra_at_any_length(n_points: int) -> None:
+    # the kernel removes the closed-form grid mean of eq. 1; the block tail (n not a multiple
+    # of the 4-point register block) must give the same heights as the direct sum
+    p = weierstrass_mandelbrot(1.5, n_points=n_points, length=0.002 * n_points, seed=9)
+    assert abs(p.z.mean()) < 1e-15
+    assert abs(p.ra - 0.005) <= 1e-12 * 0.005
+    reference = _direct_sum(1.5, p.x, 9)
+    assert np.max(np.abs(p.z - reference)) < 1e-9 * 0.005

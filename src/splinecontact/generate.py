@@ -16,6 +16,8 @@ term m = M/2 has zero frequency and vanishes identically. Terms above the grid's
 1/(2 dx) would alias and are dropped (counted in the metadata). The remaining cosines are summed by
 an angle-addition (phasor rotation) recurrence, re-anchored with exact cos/sin every
 ``_BLOCK`` points, so the cost is O(points × terms) multiply-adds with no transcendental calls.
+The grid mean of the sum is known in closed form, so the kernel writes heights about their mean
+and sums |z| in the same pass; one more pass scales them to R_A.
 """
 
 from __future__ import annotations
@@ -87,21 +89,32 @@ def _seed_metadata(seed: SeedLike) -> dict[str, Any]:
 
 
 @numba.njit(cache=True, fastmath=True, nogil=True)
-def _sum_cosines(
-    n_points: int,
+def _heights_kernel(
+    out: NDArray[np.float64],
     dx: float,
     omega: NDArray[np.float64],
     amp_re: NDArray[np.float64],
     amp_im: NDArray[np.float64],
     block: int,
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Return Σ_k Re(A_k exp(i ω_k x_j)) for x_j = j·dx, by blockwise phasor rotation."""
+    prefactor: float,
+    constant: float,
+    shift: float,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """out_j = prefactor·(constant − Σ_k Re(A_k exp(i ω_k j dx))) − shift; return Σ out, Σ |out|.
+
+    The phasors A_k exp(i ω_k x) are rotated by exp(i ω_k dx) from one point to the next and
+    re-anchored with exact cos/sin at the start of every ``block`` points. The loop over terms
+    is the inner, vectorised one; four consecutive points are advanced per pass over the terms
+    (register blocking), so each phasor is loaded and stored once per four points.
+    """
+    n_points = out.size
     n_terms = omega.size
-    out = np.empty(n_points)
     p_re = np.empty(n_terms)
     p_im = np.empty(n_terms)
     r_re = np.empty(n_terms)
     r_im = np.empty(n_terms)
+    total = 0.0
+    total_abs = 0.0
     for k in range(n_terms):
         r_re[k] = math.cos(omega[k] * dx)
         r_im[k] = math.sin(omega[k] * dx)
@@ -113,15 +126,69 @@ def _sum_cosines(
             s = math.sin(omega[k] * x_start)
             p_re[k] = amp_re[k] * c - amp_im[k] * s
             p_im[k] = amp_re[k] * s + amp_im[k] * c
-        for j in range(start, stop):
+        j = start
+        while j + 4 <= stop:
+            a0 = 0.0
+            a1 = 0.0
+            a2 = 0.0
+            a3 = 0.0
+            for k in range(n_terms):
+                cr = r_re[k]
+                ci = r_im[k]
+                x0 = p_re[k]
+                y0 = p_im[k]
+                x1 = x0 * cr - y0 * ci
+                y1 = x0 * ci + y0 * cr
+                x2 = x1 * cr - y1 * ci
+                y2 = x1 * ci + y1 * cr
+                x3 = x2 * cr - y2 * ci
+                y3 = x2 * ci + y2 * cr
+                a0 += x0
+                a1 += x1
+                a2 += x2
+                a3 += x3
+                p_re[k] = x3 * cr - y3 * ci
+                p_im[k] = x3 * ci + y3 * cr
+            for value in (a0, a1, a2, a3):
+                height = prefactor * (constant - value) - shift
+                out[j] = height
+                total += height
+                total_abs += abs(height)
+                j += 1
+        while j < stop:
             acc = 0.0
             for k in range(n_terms):
                 acc += p_re[k]
                 new_re = p_re[k] * r_re[k] - p_im[k] * r_im[k]
                 p_im[k] = p_re[k] * r_im[k] + p_im[k] * r_re[k]
                 p_re[k] = new_re
-            out[j] = acc
-    return out
+            height = prefactor * (constant - acc) - shift
+            out[j] = height
+            total += height
+            total_abs += abs(height)
+            j += 1
+    return total, total_abs
+
+
+@numba.njit(cache=True, fastmath=True, nogil=True)
+def _shift_scale(z: NDArray[np.float64], shift: float, factor: float) -> None:  # pragma: no cover
+    """z ← (z − shift)·factor in place."""
+    for i in range(z.size):
+        z[i] = (z[i] - shift) * factor
+
+
+def _mean_of_cosines(
+    n_points: int, dx: float, omega: NDArray[np.float64], coeff: NDArray[np.complex128]
+) -> float:
+    """Mean over x_j = j·dx, j < n_points, of Σ_k Re(A_k exp(i ω_k x_j)), in closed form.
+
+    Σ_j exp(i θ j) = exp(i θ (n − 1)/2) · sin(nθ/2) / sin(θ/2), with θ = ω dx ∈ (0, π].
+    """
+    theta = omega * dx
+    half = 0.5 * theta
+    ratio = np.sin(n_points * half) / (n_points * np.sin(half))
+    phase = np.exp(1j * (n_points - 1) * half)
+    return float(np.sum((coeff * phase).real * ratio))
 
 
 def _validate(
@@ -225,6 +292,25 @@ def weierstrass_mandelbrot(
         A parameter is out of range (D ∉ [1, 2], n_points < 5, length ≤ 0, γ ≤ 1, ...).
     """
     _validate(dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law)
+    return _generate(
+        dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law, seed
+    )
+
+
+def _generate(
+    dimension: float,
+    n_points: int,
+    length: float,
+    wavelength: float,
+    gamma: float,
+    directions: int,
+    n_max: int,
+    ra: float,
+    amplitude_law: AmplitudeLaw,
+    seed: SeedLike,
+    x: NDArray[np.float64] | None = None,
+) -> Profile:
+    """Eq. 1 on validated parameters; ``x`` is a read-only grid to share (e.g. within a pair)."""
     n_points = int(n_points)
     directions = int(directions)
     n_max = int(n_max)
@@ -271,27 +357,37 @@ def weierstrass_mandelbrot(
 
     omega = np.asarray(omegas, dtype=np.float64)
     coeff = np.asarray(amps, dtype=np.complex128)
+    z = np.empty(n_points)
     if omega.size:
-        oscillating = _sum_cosines(
-            n_points,
+        # the mean of eq. 1 on the grid is known in closed form, so the kernel writes heights
+        # about their mean and sums |z| on the fly; one more pass removes the last rounding of
+        # the mean and scales to R_A
+        shift = prefactor * (constant - _mean_of_cosines(n_points, dx, omega, coeff))
+        total, total_abs = _heights_kernel(
+            z,
             dx,
             omega,
             np.ascontiguousarray(coeff.real),
             np.ascontiguousarray(coeff.imag),
             _BLOCK,
+            prefactor,
+            constant,
+            shift,
         )
+        residual_mean = total / n_points
+        mean_abs = total_abs / n_points
     else:
-        oscillating = np.zeros(n_points)
-    z = prefactor * (constant - oscillating)
-    z -= z.mean()
-    mean_abs = float(np.mean(np.abs(z)))
+        z[:] = 0.0
+        residual_mean = mean_abs = 0.0
     if mean_abs == 0.0:
         raise ParameterError(
             "every term of eq. 1 lies above the Nyquist frequency of this grid; "
             f"use more points than {n_points} or a longer wavelength than {wavelength} µm"
         )
-    z *= ra / mean_abs
-    x = np.linspace(0.0, length, n_points)
+    _shift_scale(z, residual_mean, ra / mean_abs)
+    if x is None:
+        x = np.linspace(0.0, length, n_points)
+        x.setflags(write=False)
     metadata: dict[str, Any] = {
         "source": "weierstrass_mandelbrot",
         "dimension": float(dimension),
@@ -311,7 +407,8 @@ def weierstrass_mandelbrot(
         "units": {"x": "µm", "z": "µm"},
         **_seed_metadata(seed),
     }
-    return Profile(x, z, metadata=metadata)
+    z.setflags(write=False)
+    return Profile._from_trusted(x, z, metadata)
 
 
 def weierstrass_mandelbrot_pair(
@@ -341,5 +438,7 @@ def weierstrass_mandelbrot_pair(
     """
     parent = as_seed_sequence(seed)
     lower = weierstrass_mandelbrot(dimension, seed=child_seed(parent, 0), **kwargs)
-    upper = weierstrass_mandelbrot(dimension, seed=child_seed(parent, 1), **kwargs)
+    # same (already validated) parameters: the upper profile shares the lower one's grid array
+    params = {name: lower.metadata[name] for name in GENERATOR_PARAMETERS}
+    upper = _generate(dimension, **params, seed=child_seed(parent, 1), x=lower.x)
     return lower, upper

@@ -123,6 +123,21 @@ class Profile:
         object.__setattr__(self, "z", z_arr)
         object.__setattr__(self, "metadata", dict(metadata) if metadata is not None else {})
 
+    @classmethod
+    def _from_trusted(
+        cls, x: NDArray[np.float64], z: NDArray[np.float64], metadata: Mapping[str, Any]
+    ) -> Profile:
+        """Wrap arrays the package itself just made (uniform grid, finite, read-only float64).
+
+        No copy and no validation: for generators whose output satisfies the invariants by
+        construction. Everything else goes through ``Profile(x, z)``.
+        """
+        profile = object.__new__(cls)
+        object.__setattr__(profile, "x", x)
+        object.__setattr__(profile, "z", z)
+        object.__setattr__(profile, "metadata", dict(metadata))
+        return profile
+
     # -- derived quantities -------------------------------------------------------------------
 
     @property

@@ -114,9 +114,18 @@ def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  #
 
 @numba.njit(cache=True, nogil=True)
 def _reinsch_uniform(
-    z: NDArray[np.float64], lam_grid: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
-    """Smoothing spline on a uniform grid in grid units: return f, f′ and f″ at the knots.
+    z: NDArray[np.float64],
+    lam_grid: float,
+    dx: float,
+    dx2: float,
+    f: NDArray[np.float64],
+    slope: NDArray[np.float64],
+    second: NDArray[np.float64],
+) -> None:  # pragma: no cover
+    """Smoothing spline on a uniform grid: return f [µm], f′ [1] and f″ [1/µm] at the knots.
+
+    Written into ``f``, ``slope`` and ``second``. The system is solved in grid units; f′ and
+    f″ are divided by ``dx`` and ``dx2`` = dx² on the way out.
 
     Solves ``(R + λ' QᵀQ) γ = Qᵀ z`` by an LDLᵀ factorisation of the pentadiagonal Toeplitz
     matrix (diagonals a, b, c) and forms ``f = z − λ' Q γ``.
@@ -160,34 +169,52 @@ def _reinsch_uniform(
             l2[i] = 0.0
             l1[i] = b / d[0]
             d[i] = a - l1[i] * l1[i] * d[0]
-    # Forward substitution into gamma[1:-1] (gamma[i + 1] holds y_i), then back substitution.
-    gamma = np.zeros(n)
+    # Forward substitution: y_i is kept in second[i + 1].
+    second[0] = 0.0
+    second[n - 1] = 0.0
     for i in range(m):
         rhs = z[i] - 2.0 * z[i + 1] + z[i + 2]
         k = min(i, last)
         if i >= 2:
-            gamma[i + 1] = rhs - l1[k] * gamma[i] - l2[k] * gamma[i - 1]
+            second[i + 1] = rhs - l1[k] * second[i] - l2[k] * second[i - 1]
         elif i == 1:
-            gamma[i + 1] = rhs - l1[k] * gamma[i]
+            second[i + 1] = rhs - l1[k] * second[i]
         else:
-            gamma[i + 1] = rhs
+            second[i + 1] = rhs
+    # One backward pass: γ_{i+1} (grid units) by back substitution, and, as soon as the three
+    # γ around a knot are known, f there and f′ one knot further right; a γ no longer needed is
+    # scaled to 1/µm² in place. Same arithmetic, in the same order, as the separate passes.
     for i in range(m - 1, -1, -1):
-        value = gamma[i + 1] / d[min(i, last)]
+        value = second[i + 1] / d[min(i, last)]
         if i + 1 < m:
-            value -= l1[min(i + 1, last)] * gamma[i + 2]
+            value -= l1[min(i + 1, last)] * second[i + 2]
         if i + 2 < m:
-            value -= l2[min(i + 2, last)] * gamma[i + 3]
-        gamma[i + 1] = value
-    f = np.empty(n)
-    f[0] = z[0] - lam_grid * gamma[1]
-    f[n - 1] = z[n - 1] - lam_grid * gamma[n - 2]
-    for i in range(1, n - 1):
-        f[i] = z[i] - lam_grid * (gamma[i - 1] - 2.0 * gamma[i] + gamma[i + 1])
-    slope = np.empty(n)
-    for i in range(n - 1):
-        slope[i] = (f[i + 1] - f[i]) - (2.0 * gamma[i] + gamma[i + 1]) / 6.0
-    slope[n - 1] = (f[n - 1] - f[n - 2]) + (gamma[n - 2] + 2.0 * gamma[n - 1]) / 6.0
-    return f, slope, gamma
+            value -= l2[min(i + 2, last)] * second[i + 3]
+        second[i + 1] = value
+        if i == m - 1:
+            f[n - 1] = z[n - 1] - lam_grid * value
+        else:
+            j = i + 2  # knot whose three γ (j − 1, j, j + 1) are now known
+            g_left = value
+            g_mid = second[j]
+            g_right = second[j + 1]
+            f[j] = z[j] - lam_grid * (g_left - 2.0 * g_mid + g_right)
+            if j == n - 2:
+                slope[n - 1] = (f[n - 1] - f[n - 2]) + (g_mid + 2.0 * g_right) / 6.0
+                slope[n - 1] /= dx
+            slope[j] = ((f[j + 1] - f[j]) - (2.0 * g_mid + g_right) / 6.0) / dx
+            second[j + 1] = g_right / dx2
+    # the left end: γ_0 = 0
+    if m >= 1:
+        g1 = second[1]
+        g2 = second[2]
+        if n - 1 >= 3:
+            f[1] = z[1] - lam_grid * (0.0 - 2.0 * g1 + g2)
+            slope[1] = ((f[2] - f[1]) - (2.0 * g1 + g2) / 6.0) / dx
+            second[2] = g2 / dx2
+        f[0] = z[0] - lam_grid * g1
+        slope[0] = ((f[1] - f[0]) - (2.0 * 0.0 + g1) / 6.0) / dx
+        second[1] = g1 / dx2
 
 
 def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> SplineFit:
@@ -219,14 +246,17 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
     """
     dx = profile.dx
     lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
-    f, slope, gamma = _reinsch_uniform(profile.z, lam / dx**3)
-    for array in (f, slope, gamma):
+    # outputs allocated by numpy, which asks the kernel for huge pages on large arrays (fewer
+    # page faults than the kernel's own allocations at 10⁷ points)
+    f, slope, second = (np.empty(profile.z.size) for _ in range(3))
+    _reinsch_uniform(profile.z, lam / dx**3, dx, dx**2, f, slope, second)
+    for array in (f, slope, second):
         array.setflags(write=False)
     return SplineFit(
         x=profile.x,
         f=f,
-        slope=slope / dx,
-        second_derivative=gamma / dx**2,
+        slope=slope,
+        second_derivative=second,
         lam=lam,
         alpha=float(alpha),
         x0=float(x0),
