@@ -1040,7 +1040,7 @@ def _first_crossing(
     ``f`` and ``y`` are (m, n); returns (m, loads). NaN where a row never reaches the load or
     starts above it.
     """
-    m, n = f.shape
+    m = f.shape[0]
     out = np.full((m, loads.size), np.nan)
     rows = np.arange(m)
     for j, load in enumerate(loads):
@@ -1087,9 +1087,10 @@ def mean_curve_stiffness(
     (:func:`ensemble_vs_displacement`), the curves are averaged, and the mean curve F̄(δ_N) is
     differentiated with the Savitzky–Golay derivative of :func:`stiffness` (``window`` samples,
     default 5 % of them). k̄ is then a function of the mean load F̄; at a given load it is read
-    where F̄ first reaches that load (linear between the two samples around it). This is *not* the mean of
-    the realizations' stiffness at a load (:func:`dimensionless_stiffness`): a mean curve mixes
-    realizations at different loads, and the two estimators can disagree on trends with D.
+    where F̄ first reaches that load (linear between the two samples around it). This is *not*
+    the mean of the realizations' stiffness at a load (:func:`dimensionless_stiffness`): a mean
+    curve mixes realizations at different loads, and the two estimators can disagree on trends
+    with D.
 
     The uncertainty is a bootstrap over realizations (``n_boot`` resamples within each grid
     point, seeded): the interval is k̄ ± z·SE_boot (normal bootstrap), so it always contains k̄.
