@@ -38,6 +38,7 @@ import xarray as xr
 
 from . import analysis
 from .errors import ParameterError
+from .outputs import OUTPUT_MARKER, OutputFolder, atomic_path, prepare_output_folder
 
 __all__ = [
     "SCALES",
@@ -772,13 +773,14 @@ def write_report(
     wall_time: float | None = None,
     kappa_options: Mapping[str, Any] | None = None,
     hurst: xr.Dataset | None = None,
+    root: str | Path | None = None,
 ) -> Path:
     """Write ``report.md``: run description, each finding with verdict, numbers and figure.
 
-    Figures are linked relative to the report's directory.
+    Figures are linked relative to ``root`` (default: the report's folder).
     """
     path = Path(path)
-    root = path.parent
+    root = Path(root) if root is not None else path.parent
     opts = {
         "fit_fraction": 0.3,
         "rsq_source": "auto",
@@ -898,6 +900,7 @@ def write_report(
                 _fmt(float(hurst["hurst_nominal"].isel(dimension=i)), 2),
                 _fmt(float(hurst["hurst_measured_mean"].isel(dimension=i)), 2),
                 _fmt(float(hurst["hurst_measured_std"].isel(dimension=i)), 2),
+                str(int(hurst["hurst_measured_count"].isel(dimension=i))),
             ]
             for i, d in enumerate(hurst["dimension"].values)
         ]
@@ -905,10 +908,12 @@ def write_report(
             "## Hurst exponent: nominal and measured",
             "",
             "Measured from the PSD slope of the lower profiles of the first realizations "
-            "(regenerated from the study's seeds). Fig. 12 uses the nominal H = 2 − D; the "
-            "measured values show which amplitude law the profiles follow.",
+            "(regenerated from the study's seed rule; with one profile per D these are the "
+            "profiles of Fig. 3a, and the standard deviation is not defined: –). Fig. 12 uses "
+            "the nominal H = 2 − D; the measured values show which amplitude law the profiles "
+            "follow.",
             "",
-            _table(["D", "H = 2 − D", "measured H (mean)", "std"], rows),
+            _table(["D", "H = 2 − D", "measured H (mean)", "std", "profiles"], rows),
             "",
         ]
     lines += ["## Illustrations", ""]
@@ -953,6 +958,8 @@ class ReproduceResult:
         Total duration [s].
     study_time : float
         Duration of the study run [s].
+    figure_time : float
+        Duration of drawing and writing the figures [s].
     """
 
     out_dir: Path
@@ -964,6 +971,7 @@ class ReproduceResult:
     findings: list[Finding]
     wall_time: float
     study_time: float
+    figure_time: float = math.nan
 
     def files(self) -> list[Path]:
         """Every file promised (the store is a directory)."""
@@ -973,6 +981,20 @@ class ReproduceResult:
         return out
 
 
+def _prepare_reproduce_folder(out: Path, *, overwrite: bool) -> OutputFolder:
+    """The output folder of ``reproduce`` under the package's output rule.
+
+    A folder an earlier ``reproduce`` wrote (its marker and its ``study.zarr`` are there) is
+    reused without ``--overwrite``: running the same command again continues an interrupted
+    study. Only the files that run recorded (study.toml, figures, findings, report) are replaced;
+    the study store is kept and handled by :func:`splinecontact.study.run_study` (continued if it
+    holds the same study, refused otherwise unless ``overwrite``). Any other non-empty folder is
+    refused, and nothing is touched.
+    """
+    earlier = out.is_dir() and (out / OUTPUT_MARKER).is_file() and (out / "study.zarr").is_dir()
+    return prepare_output_folder(out, overwrite=overwrite or earlier, command="reproduce")
+
+
 def reproduce(
     out_dir: str | Path,
     *,
@@ -980,15 +1002,17 @@ def reproduce(
     workers: int | None = None,
     progress: bool = True,
     kappa_options: Mapping[str, Any] | None = None,
-    hurst_profiles: int = 3,
+    hurst_profiles: int = 1,
     command: str = "",
+    overwrite: bool = False,
 ) -> ReproduceResult:
     """Run the paper's study at ``scale``, write every figure, ``report.md`` and findings.
 
     Parameters
     ----------
     out_dir : path
-        Output directory (created). Running again continues an interrupted study.
+        Output folder (see :func:`_prepare_reproduce_folder` for the rule). Running again on
+        the same folder continues an interrupted study.
     scale : {"tiny", "quick", "paper"}
         Size of the study (:data:`SCALES`).
     workers : int, optional
@@ -998,70 +1022,84 @@ def reproduce(
     kappa_options : mapping, optional
         Options of :func:`splinecontact.analysis.kappa` for Fig. 12 and findings (d), (e).
     hurst_profiles : int
-        Profiles per D whose Hurst exponent is measured.
+        Lower profiles per D whose Hurst exponent is measured (1: the profiles of the
+        illustrative figures, no extra generation).
     command : str
         The command line, written into the report.
+    overwrite : bool
+        Reuse a folder splinecontact wrote for another command, and discard a study store that
+        belongs to another study.
 
     Returns
     -------
     ReproduceResult
     """
     from .config import parse_study
-    from .plotting import make_figures
+    from .plotting import build_figures, write_figures
     from .study import open_study, run_study
 
     t0 = time.perf_counter()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     config = parse_study(study_mapping(scale))
-    study_file = out / "study.toml"
-    study_file.write_text(config.to_toml(), encoding="utf-8")
+    out = Path(out_dir)
+    folder = _prepare_reproduce_folder(out, overwrite=overwrite)
+    study_file = folder.file("study.toml")
+    with atomic_path(study_file) as tmp:
+        tmp.write_text(config.to_toml(), encoding="utf-8")
     store = out / "study.zarr"
     t1 = time.perf_counter()
-    run_study(config, store, workers=workers, progress=progress)
+    run_study(config, store, workers=workers, progress=progress, overwrite=overwrite)
     study_time = time.perf_counter() - t1
     ds = open_study(store)
-    fig_dir = out / "figures"
-    figures, hurst = make_figures(
-        ds, fig_dir, kappa_options=kappa_options, hurst_profiles=hurst_profiles
+    t2 = time.perf_counter()
+    figs, hurst, notes = build_figures(
+        ds, kappa_options=kappa_options, hurst_profiles=hurst_profiles
     )
+    figures = write_figures(figs, folder, prefix="figures/")
+    figure_time = time.perf_counter() - t2
     findings = evaluate_findings(ds, kappa_options=kappa_options)
-    findings_file = out / "findings.json"
-    findings_file.write_text(
-        json.dumps(
-            {
-                "scale": scale,
-                "study_time_s": study_time,
-                "findings": [
-                    {k: v for k, v in asdict(f).items() if k != "tables"} for f in findings
-                ],
-            },
-            indent=2,
-            default=_json_default,
-        ),
-        encoding="utf-8",
-    )
+    findings_file = folder.file("findings.json")
+    with atomic_path(findings_file) as tmp:
+        tmp.write_text(
+            json.dumps(
+                {
+                    "scale": scale,
+                    "study_time_s": study_time,
+                    "figure_time_s": figure_time,
+                    "notes": notes,
+                    "findings": [
+                        {k: v for k, v in asdict(f).items() if k != "tables"} for f in findings
+                    ],
+                },
+                indent=2,
+                default=_json_default,
+            ),
+            encoding="utf-8",
+        )
     wall = time.perf_counter() - t0
-    report = write_report(
-        out / "report.md",
-        ds,
-        findings,
-        figures,
-        command=command or f"splinecontact reproduce --scale {scale} -o {out}",
-        wall_time=wall,
-        kappa_options=kappa_options,
-        hurst=hurst,
-    )
+    report_path = folder.file("report.md")
+    with atomic_path(report_path) as tmp:
+        write_report(
+            tmp,
+            ds,
+            findings,
+            figures,
+            command=command or f"splinecontact reproduce --scale {scale} -o {out}",
+            wall_time=wall,
+            kappa_options=kappa_options,
+            hurst=hurst,
+            root=out,
+        )
     return ReproduceResult(
         out_dir=out,
         store=store,
         study_file=study_file,
-        report=report,
+        report=report_path,
         findings_file=findings_file,
         figures=figures,
         findings=findings,
         wall_time=time.perf_counter() - t0,
         study_time=study_time,
+        figure_time=figure_time,
     )
 
 
