@@ -219,6 +219,11 @@ def test_reproduce_tiny_writes_every_promised_file(tmp_path: Path) -> None:
     assert (out / "figures" / "extra.png").read_bytes() == b"mine"
     assert (out / "report.md").is_file() and (out / "figures" / "fig12_kappa.svg").is_file()
     assert _snapshot(out / "study.zarr").keys() == store_files.keys()
+    # another scale in the same folder: refused before anything is touched
+    before = _snapshot(out)
+    other = CliRunner().invoke(app, ["reproduce", "--scale", "quick", "-o", str(out), "--quiet"])
+    assert other.exit_code == 1 and "--overwrite" in other.output
+    assert _snapshot(out) == before
 
 
 def test_reproduce_rejects_unknown_scale(tmp_path: Path) -> None:

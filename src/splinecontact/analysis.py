@@ -21,14 +21,16 @@ Conventions (see ``docs/analysis.md`` for the reasoning)
   0 to the *smallest* end value among that grid point's realizations, so that every realization
   contributes at every sample (no extrapolation, no survivor bias near the end). The abscissa is
   therefore a coordinate on (grid…, sample).
-* **Force as abscissa.** F_N(δ_N) never decreases, but it has plateaus (no new contact in a step).
-  Only the steps at which F_N exceeds every earlier value are used as interpolation nodes (the first
-  time each load is reached).
+* **Force as abscissa.** F_N(δ_N) has plateaus (no new contact in a step) and, rough-on-rough, can
+  step down where an accepted contact is rejected (``docs/conventions.md``). Only the steps at
+  which F_N exceeds every earlier value are used as interpolation nodes (the first time each load
+  is reached), so every load has one value.
 * **Ensemble statistics.** Mean, sample standard deviation (ddof = 1) and the two-sided confidence
   interval of the mean from Student's t with n − 1 degrees of freedom (95 % by default).
 * **Stiffness.** k = dF_N/dδ_N by a Savitzky–Golay derivative (local least-squares quadratic over a
   sliding window of ``window`` steps on the uniform displacement grid of each realization). See
-  :func:`stiffness`.
+  :func:`stiffness`. The paper's Fig. 11a shows the stiffness of the *ensemble-mean* curve
+  instead (:func:`mean_curve_stiffness`); the two estimators can disagree on trends with D.
 * **κ (eq. 15).** κ = R_Sq · E* · s with s the least-squares slope through the origin of A_S against
   F_N over F_N ≤ ``fit_fraction`` × the realization's final load. See :func:`kappa`.
 """

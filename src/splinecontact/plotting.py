@@ -743,9 +743,9 @@ def drawable_study(ds: xr.Dataset) -> tuple[xr.Dataset, list[str]]:
         d = float(ds.attrs.get("dimension", np.nan))
         ds = ds.expand_dims(dimension=[d])
     ok = analysis.ok_mask(ds)
-    finite = np.isfinite(ds["displacement"]).all("step") & np.isfinite(ds["normal_force"]).all(
-        "step"
-    )
+    finite = xr.apply_ufunc(np.isfinite, ds["displacement"]).all("step") & xr.apply_ufunc(
+        np.isfinite, ds["normal_force"]
+    ).all("step")
     bad = ok & ~finite
     if bool(bad.any()):
         notes.append(

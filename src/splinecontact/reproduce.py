@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from . import analysis
-from .errors import ParameterError
+from .errors import OutputExistsError, ParameterError
 from .outputs import OUTPUT_MARKER, OutputFolder, atomic_path, prepare_output_folder
 
 __all__ = [
@@ -301,9 +301,13 @@ def _finding_a(ds: xr.Dataset, seed: int) -> Finding:
         f.tables.append((f"{ctype}: trend of mean F_N with D", ["at", *_TREND_HEADER], rows))
         f.tables.append(_means_table(f"{ctype}: mean F_N [95 % CI] per D", tests, "mN/µm"))
         per = [t.verdict("decreasing") for t in tests.values()]
-        v = _overall(per)
-        why = ", ".join(f"{k}: {t.shape}" for k, t in tests.items()) if v != "reproduced" else ""
-        verdicts.append((ctype, v, why))
+        verdict = _overall(per)
+        why = (
+            ", ".join(f"{k}: {t.shape}" for k, t in tests.items())
+            if verdict != "reproduced"
+            else ""
+        )
+        verdicts.append((ctype, verdict, why))
         f.numbers[ctype] = {
             k: {
                 "rho": t.rho,
@@ -466,13 +470,13 @@ def _finding_b(ds: xr.Dataset, seed: int) -> Finding:
                 ],
             )
         )
-        v = _overall([falls_p, conv_p])
+        verdict = _overall([falls_p, conv_p])
         v_r = _overall([falls_r, conv_r])
         why = (
             f"mean curve: falls at low load {falls_p}, converges {conv_p}; per-realization "
             f"estimator: {v_r} (falls {falls_r}, converges {conv_r})"
         )
-        verdicts.append((ctype, v, why))
+        verdicts.append((ctype, verdict, why))
         f.numbers[ctype] = {
             "estimator_for_verdict": "ensemble-mean curve (paper, Fig. 11a)",
             "mean_curve": {
@@ -981,18 +985,40 @@ class ReproduceResult:
         return out
 
 
-def _prepare_reproduce_folder(out: Path, *, overwrite: bool) -> OutputFolder:
+def _earlier_reproduce(out: Path) -> bool:
+    """Whether ``out`` is a folder an earlier ``reproduce`` wrote (its marker and its store)."""
+    marker = out / OUTPUT_MARKER
+    if not (out.is_dir() and marker.is_file() and (out / "study.zarr").is_dir()):
+        return False
+    try:
+        return bool(json.loads(marker.read_text(encoding="utf-8")).get("command") == "reproduce")
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _prepare_reproduce_folder(out: Path, study_toml: str, *, overwrite: bool) -> OutputFolder:
     """The output folder of ``reproduce`` under the package's output rule.
 
-    A folder an earlier ``reproduce`` wrote (its marker and its ``study.zarr`` are there) is
-    reused without ``--overwrite``: running the same command again continues an interrupted
-    study. Only the files that run recorded (study.toml, figures, findings, report) are replaced;
-    the study store is kept and handled by :func:`splinecontact.study.run_study` (continued if it
-    holds the same study, refused otherwise unless ``overwrite``). Any other non-empty folder is
+    A folder an earlier ``reproduce`` of the same scale wrote (its marker, ``study.zarr`` and the
+    same ``study.toml``) is reused without ``--overwrite``: running the same command again
+    continues an interrupted study. Only the files that run recorded (study.toml, figures,
+    findings, report) are replaced; the study store is kept and handled by
+    :func:`splinecontact.study.run_study`. The folder of another scale is refused unless
+    ``overwrite`` (the store is then discarded by ``run_study``); any other non-empty folder is
     refused, and nothing is touched.
     """
-    earlier = out.is_dir() and (out / OUTPUT_MARKER).is_file() and (out / "study.zarr").is_dir()
-    return prepare_output_folder(out, overwrite=overwrite or earlier, command="reproduce")
+    resume = _earlier_reproduce(out)
+    if resume and not overwrite:
+        try:
+            same = (out / "study.toml").read_text(encoding="utf-8") == study_toml
+        except OSError:
+            same = False
+        if not same:
+            raise OutputExistsError(
+                f"-o {out} holds another reproduce study (its study.toml differs); choose "
+                "another folder, or pass --overwrite to discard that study and start again"
+            )
+    return prepare_output_folder(out, overwrite=overwrite or resume, command="reproduce")
 
 
 def reproduce(
@@ -1011,8 +1037,9 @@ def reproduce(
     Parameters
     ----------
     out_dir : path
-        Output folder (see :func:`_prepare_reproduce_folder` for the rule). Running again on
-        the same folder continues an interrupted study.
+        Output folder, under the package's output rule, with one addition: running again on a
+        folder an earlier ``reproduce`` of the same scale wrote continues its study (the
+        figures, findings and report it wrote are replaced; other files are left untouched).
     scale : {"tiny", "quick", "paper"}
         Size of the study (:data:`SCALES`).
     workers : int, optional
@@ -1041,10 +1068,11 @@ def reproduce(
     t0 = time.perf_counter()
     config = parse_study(study_mapping(scale))
     out = Path(out_dir)
-    folder = _prepare_reproduce_folder(out, overwrite=overwrite)
+    study_toml = config.to_toml()
+    folder = _prepare_reproduce_folder(out, study_toml, overwrite=overwrite)
     study_file = folder.file("study.toml")
     with atomic_path(study_file) as tmp:
-        tmp.write_text(config.to_toml(), encoding="utf-8")
+        tmp.write_text(study_toml, encoding="utf-8")
     store = out / "study.zarr"
     t1 = time.perf_counter()
     run_study(config, store, workers=workers, progress=progress, overwrite=overwrite)
