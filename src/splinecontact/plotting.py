@@ -528,12 +528,15 @@ def plot_spheres(
     s = NM_PER_UM
     for body, sign, offset, color, name in bodies:
         sph = surface_spheres(body)
+        # the sphere arrays are properties computed over the whole profile: evaluate them once
+        curvature, normal_x, normal_z = sph.curvature, sph.normal_x, sph.normal_z
+        centre_x, centre_z = sph.centre_x, sph.centre_z
         z = offset + sign * body.f
         ax.plot(body.x[sel] * s, z[sel] * s, color=color, lw=1.5, label=f"{name} spline")
         arrow = 0.06 * width * s
         for i in sel[::every]:
-            k = sph.curvature[i]
-            nx, nz = sph.normal_x[i], sign * sph.normal_z[i]
+            k = curvature[i]
+            nx, nz = normal_x[i], sign * normal_z[i]
             ax.annotate(
                 "",
                 xy=(body.x[i] * s + arrow * nx, z[i] * s + arrow * nz),
@@ -542,8 +545,8 @@ def plot_spheres(
             )
             if k == 0 or 1 / abs(k) > rmax:
                 continue
-            cx = sph.centre_x[i]
-            cz = offset + sign * sph.centre_z[i]
+            cx = centre_x[i]
+            cz = offset + sign * centre_z[i]
             ls = "-" if k > 0 else ":"
             ax.add_patch(
                 Circle(
@@ -647,12 +650,16 @@ def plot_contact_zoom(
     sph_l = surface_spheres(lower_fit)
     sph_u = surface_spheres(upper_fit) if upper_fit is not None else None
     inside = [int(i) for i in record.point if xlim[0] <= lower_fit.x[i] <= xlim[1]]
+    kl_all, clx, clz = sph_l.curvature, sph_l.centre_x, sph_l.centre_z
+    ku_all = sph_u.curvature if sph_u is not None else None
+    cux = sph_u.centre_x if sph_u is not None else None
+    cuz = sph_u.centre_z if sph_u is not None else None
     for n, i in enumerate(inside):
-        kl = sph_l.curvature[i]
+        kl = kl_all[i]
         if kl != 0:
             ax.add_patch(
                 Circle(
-                    (sph_l.centre_x[i] * s, sph_l.centre_z[i] * s),
+                    (clx[i] * s, clz[i] * s),
                     s / abs(kl),
                     fill=False,
                     color="red",
@@ -662,12 +669,12 @@ def plot_contact_zoom(
                     else None,
                 )
             )
-        if sph_u is not None and sph_u.curvature[i] != 0:
-            ku = sph_u.curvature[i]
-            cz = offset - displacement - sph_u.centre_z[i]
+        if ku_all is not None and cux is not None and cuz is not None and ku_all[i] != 0:
+            ku = ku_all[i]
+            cz = offset - displacement - cuz[i]
             ax.add_patch(
                 Circle(
-                    (sph_u.centre_x[i] * s, cz * s),
+                    (cux[i] * s, cz * s),
                     s / abs(ku),
                     fill=False,
                     color="red",
