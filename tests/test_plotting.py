@@ -199,13 +199,15 @@ def test_plotting_module_does_not_call_matplotlib_use() -> None:
     assert "from matplotlib import pyplot" not in source
 
 
-def test_write_figures_follows_the_output_rule(study: xr.Dataset, tmp_path: Path) -> None:
+def test_write_figures_follows_the_output_rule(tmp_path: Path) -> None:
     from splinecontact.errors import OutputExistsError, UnsafeOutputError
 
-    figures = plotting.study_figures(study)
+    fig = Figure(figsize=(2, 2))
+    fig.add_subplot().plot([0, 1], [1, 0])
+    figures = {"fig12_kappa": fig}
     out = tmp_path / "figs"
     written = plotting.write_figures(figures, out)
-    assert (out / "fig12_kappa.svg").is_file()
+    assert (out / "fig12_kappa.svg").is_file() and (out / "fig12_kappa.png").is_file()
     mine = out / "notes.txt"
     mine.write_bytes(b"my notes")
     with pytest.raises(OutputExistsError):
