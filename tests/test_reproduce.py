@@ -385,15 +385,19 @@ def test_plot_bad_fit_fraction_writes_nothing(
     assert not figs.exists()
 
 
-def test_reproduce_refuses_a_user_folder(tmp_path: Path) -> None:
+def test_reproduce_refuses_a_user_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     user = tmp_path / "mine"
     user.mkdir()
     (user / "results.txt").write_bytes(b"precious")
-    for extra in ([], ["--overwrite"]):
-        result = CliRunner().invoke(
-            app, ["reproduce", "--scale", "tiny", "-o", str(user), "--quiet", *extra]
-        )
-        assert result.exit_code == 1, result.output
-        assert "Traceback" not in result.output
-        assert sorted(p.name for p in user.iterdir()) == ["results.txt"]
-        assert (user / "results.txt").read_bytes() == b"precious"
+    (user / "study.zarr").mkdir()  # looks like a store, but no splinecontact marker
+    (user / "study.zarr" / "x").write_bytes(b"z")
+    before = _snapshot(user)
+    for target in (str(user), "."):
+        monkeypatch.chdir(user if target == "." else tmp_path)
+        for extra in ([], ["--overwrite"]):
+            result = CliRunner().invoke(
+                app, ["reproduce", "--scale", "tiny", "-o", target, "--quiet", *extra]
+            )
+            assert result.exit_code == 1, result.output
+            assert "Traceback" not in result.output
+            assert _snapshot(user) == before

@@ -1001,9 +1001,9 @@ def _prepare_reproduce_folder(out: Path, study_toml: str, *, overwrite: bool) ->
 
     A folder an earlier ``reproduce`` of the same scale wrote (its marker, ``study.zarr`` and the
     same ``study.toml``) is reused without ``--overwrite``: running the same command again
-    continues an interrupted study. Only the files that run recorded (study.toml, figures,
-    findings, report) are replaced; the study store is kept and handled by
-    :func:`splinecontact.study.run_study`. The folder of another scale is refused unless
+    continues an interrupted study. Nothing is removed; the files this run writes (study.toml,
+    figures, findings, report) replace the earlier ones atomically; the study store is kept and
+    handled by :func:`splinecontact.study.run_study`. The folder of another scale is refused unless
     ``overwrite`` (the store is then discarded by ``run_study``); any other non-empty folder is
     refused, and nothing is touched.
     """
@@ -1018,7 +1018,10 @@ def _prepare_reproduce_folder(out: Path, study_toml: str, *, overwrite: bool) ->
                 f"-o {out} holds another reproduce study (its study.toml differs); choose "
                 "another folder, or pass --overwrite to discard that study and start again"
             )
-    return prepare_output_folder(out, overwrite=overwrite or resume, command="reproduce")
+        # our own folder, same study: nothing is removed; each file this run writes replaces
+        # the earlier one atomically (this also works for -o . , which is never emptied)
+        return OutputFolder(out, "reproduce")
+    return prepare_output_folder(out, overwrite=overwrite, command="reproduce")
 
 
 def reproduce(
