@@ -164,3 +164,88 @@ def test_decimate_keeps_extremes() -> None:
     assert xd.size <= 1000
     assert zd.max() == 7.0
     assert zd.min() == pytest.approx(z.min())
+
+
+def test_importing_plotting_keeps_the_users_backend() -> None:
+    """Importing the package's plotting module must not switch the matplotlib backend."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import matplotlib\n"
+        "before = matplotlib.get_backend()\n"
+        "import splinecontact.plotting\n"
+        "import splinecontact.reproduce\n"
+        "after = matplotlib.get_backend()\n"
+        "assert before == after == 'pdf', (before, after)\n"
+        "assert matplotlib.rcParams['backend'] == 'pdf'\n"
+        "print('ok')\n"
+    )
+    env = {**os.environ, "MPLBACKEND": "pdf"}
+    src = str(Path(__file__).resolve().parents[1] / "src")
+    env["PYTHONPATH"] = src + os.pathsep + env.get("PYTHONPATH", "")
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=False
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "ok"
+
+
+def test_plotting_module_does_not_call_matplotlib_use() -> None:
+    source = Path(plotting.__file__).read_text(encoding="utf-8")
+    assert "matplotlib.use(" not in source
+    assert "import matplotlib.pyplot" not in source
+    assert "from matplotlib import pyplot" not in source
+
+
+def test_write_figures_follows_the_output_rule(tmp_path: Path) -> None:
+    from splinecontact.errors import OutputExistsError, UnsafeOutputError
+
+    fig = Figure(figsize=(2, 2))
+    fig.add_subplot().plot([0, 1], [1, 0])
+    figures = {"fig12_kappa": fig}
+    out = tmp_path / "figs"
+    written = plotting.write_figures(figures, out)
+    assert (out / "fig12_kappa.svg").is_file() and (out / "fig12_kappa.png").is_file()
+    mine = out / "notes.txt"
+    mine.write_bytes(b"my notes")
+    with pytest.raises(OutputExistsError):
+        plotting.write_figures(figures, out)
+    again = plotting.write_figures(figures, out, overwrite=True)
+    assert set(again) == set(written)
+    assert mine.read_bytes() == b"my notes"
+    user = tmp_path / "user"
+    user.mkdir()
+    (user / "data.csv").write_bytes(b"1,2\n")
+    with pytest.raises(UnsafeOutputError):
+        plotting.write_figures(figures, user, overwrite=True)
+    assert sorted(p.name for p in user.iterdir()) == ["data.csv"]
+    assert (user / "data.csv").read_bytes() == b"1,2\n"
+
+
+def test_drawable_study_degenerate_cases(study: xr.Dataset) -> None:
+    # one grid point without any successful realization: that D is left out, with a note
+    ds = study.copy(deep=True)
+    ds["status"].values[0, 1, :] = 2
+    kept, notes = plotting.drawable_study(ds)
+    assert list(kept["dimension"].values) == [1.5, 1.8]
+    assert notes and "1.2" in notes[0]
+    # non-finite curves count as failed
+    ds = study.copy(deep=True)
+    ds["displacement"].values[1, 0, 0, 5:] = np.inf
+    kept, notes = plotting.drawable_study(ds)
+    assert "non-finite" in notes[0]
+    assert int(kept["status"].values[1, 0, 0]) == 2
+    # nothing usable: one specific error
+    ds = study.copy(deep=True)
+    ds["status"].values[:] = 2
+    with pytest.raises(analysis.AnalysisError, match="nothing to draw"):
+        plotting.drawable_study(ds)
+    # no sweep at all: a one-value dimension axis from the attribute
+    single = study.isel(dimension=0, contact_type=0, drop=True)
+    single.attrs["dimension"] = 1.2
+    kept, _ = plotting.drawable_study(single)
+    assert kept.sizes["dimension"] == 1
+    figures = plotting.study_figures(kept)
+    assert {"fig10", "fig11", "fig12_kappa", "diag_force_split"} <= set(figures)

@@ -21,14 +21,16 @@ Conventions (see ``docs/analysis.md`` for the reasoning)
   0 to the *smallest* end value among that grid point's realizations, so that every realization
   contributes at every sample (no extrapolation, no survivor bias near the end). The abscissa is
   therefore a coordinate on (grid…, sample).
-* **Force as abscissa.** F_N(δ_N) never decreases, but it has plateaus (no new contact in a step).
-  Only the steps at which F_N exceeds every earlier value are used as interpolation nodes (the first
-  time each load is reached).
+* **Force as abscissa.** F_N(δ_N) has plateaus (no new contact in a step) and, rough-on-rough, can
+  step down where an accepted contact is rejected (``docs/conventions.md``). Only the steps at
+  which F_N exceeds every earlier value are used as interpolation nodes (the first time each load
+  is reached), so every load has one value.
 * **Ensemble statistics.** Mean, sample standard deviation (ddof = 1) and the two-sided confidence
   interval of the mean from Student's t with n − 1 degrees of freedom (95 % by default).
 * **Stiffness.** k = dF_N/dδ_N by a Savitzky–Golay derivative (local least-squares quadratic over a
   sliding window of ``window`` steps on the uniform displacement grid of each realization). See
-  :func:`stiffness`.
+  :func:`stiffness`. The paper's Fig. 11a shows the stiffness of the *ensemble-mean* curve
+  instead (:func:`mean_curve_stiffness`); the two estimators can disagree on trends with D.
 * **κ (eq. 15).** κ = R_Sq · E* · s with s the least-squares slope through the origin of A_S against
   F_N over F_N ≤ ``fit_fraction`` × the realization's final load. See :func:`kappa`.
 """
@@ -36,7 +38,6 @@ Conventions (see ``docs/analysis.md`` for the reasoning)
 from __future__ import annotations
 
 import functools
-import itertools
 import math
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
@@ -67,6 +68,7 @@ __all__ = [
     "kappa",
     "kappa_alternatives",
     "linear_fit_through_origin",
+    "mean_curve_stiffness",
     "measured_hurst",
     "nominal_hurst",
     "ok_mask",
@@ -75,6 +77,7 @@ __all__ = [
     "spearman_pvalue",
     "stiffness",
     "study_hurst",
+    "trend_from_estimates",
     "trend_test",
     "values_at",
 ]
@@ -998,30 +1001,254 @@ def study_hurst(ds: xr.Dataset, *, n_profiles: int = 3) -> xr.Dataset:
     return out
 
 
+# --- stiffness of the ensemble-mean curve (the paper's Fig. 11a) -------------------------------
+
+
+def _mean_curve_pieces(
+    ds: xr.Dataset, n_samples: int
+) -> tuple[tuple[str, ...], xr.Dataset, NDArray[np.float64], NDArray[np.float64]]:
+    interp = interpolate_realizations(ds, "displacement", ["normal_force"], n_samples=n_samples)
+    gdims = grid_dims(ds)
+    f = _ordered(interp["normal_force"], gdims, ("realization", "sample")).astype(np.float64)
+    x = _ordered(interp.coords["displacement"], gdims, ("sample",)).astype(np.float64)
+    return gdims, interp, f, x
+
+
+@functools.lru_cache(maxsize=8)
+def _savgol_matrix(n: int, window: int, polyorder: int) -> NDArray[np.float64]:
+    """Matrix K with K @ f = the Savitzky–Golay derivative of f (unit spacing, ``interp`` ends).
+
+    The filter is linear, so applying it once to the identity gives the matrix; derivatives of
+    many curves (bootstrap resamples) are then one matrix product.
+    """
+    eye = np.eye(n)
+    return np.asarray(
+        signal.savgol_filter(eye, window, polyorder, deriv=1, delta=1.0, axis=0, mode="interp")
+    )
+
+
+def _savgol_rows(
+    f: NDArray[np.float64], dx: float, window: int, polyorder: int
+) -> NDArray[np.float64]:
+    k = _savgol_matrix(f.shape[-1], window, polyorder)
+    return np.asarray(f @ k.T / dx)
+
+
+def _first_crossing(
+    f: NDArray[np.float64], y: NDArray[np.float64], loads: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """y where each row of f first reaches each load (linear between the two samples around it).
+
+    ``f`` and ``y`` are (m, n); returns (m, loads). NaN where a row never reaches the load or
+    starts above it.
+    """
+    m = f.shape[0]
+    out = np.full((m, loads.size), np.nan)
+    rows = np.arange(m)
+    for j, load in enumerate(loads):
+        reached = f >= load
+        idx = reached.argmax(axis=1)
+        ok = reached[rows, idx] & (idx > 0)
+        exact = reached[rows, idx] & (idx == 0) & (f[:, 0] == load)
+        i1 = np.where(ok, idx, 1)
+        f0, f1 = f[rows, i1 - 1], f[rows, i1]
+        y0, y1 = y[rows, i1 - 1], y[rows, i1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            w = np.where(f1 > f0, (load - f0) / (f1 - f0), 1.0)
+        out[:, j] = np.where(ok, y0 + w * (y1 - y0), np.nan)
+        out[exact, j] = y[exact, 0]
+    return out
+
+
+def _mean_curve_window(n_samples: int, window: int | None, polyorder: int) -> int:
+    w = _default_window(n_samples) if window is None else int(window)
+    if w % 2 == 0 or w <= polyorder or w > n_samples:
+        raise ParameterError(
+            f"window must be odd, larger than polyorder={polyorder} and at most n_samples="
+            f"{n_samples}; got {window!r}"
+        )
+    return w
+
+
+def mean_curve_stiffness(
+    ds: xr.Dataset,
+    *,
+    loads: ArrayLike | None = None,
+    n_samples: int = 201,
+    window: int | None = None,
+    polyorder: int = 2,
+    n_boot: int = 400,
+    confidence: float = 0.95,
+    seed: int = 0,
+) -> xr.Dataset:
+    """Stiffness of the ensemble-mean F_N(δ_N) curve: the estimator of the paper's Fig. 11a.
+
+    The paper averages F_N, δ_N and A_S over the realizations of each D and shows the stiffness
+    of the averaged curves. Here every successful realization is interpolated onto
+    ``n_samples`` displacements from 0 to the smallest final displacement of its grid point
+    (:func:`ensemble_vs_displacement`), the curves are averaged, and the mean curve F̄(δ_N) is
+    differentiated with the Savitzky–Golay derivative of :func:`stiffness` (``window`` samples,
+    default 5 % of them). k̄ is then a function of the mean load F̄; at a given load it is read
+    where F̄ first reaches that load (linear between the two samples around it). This is *not*
+    the mean of the realizations' stiffness at a load (:func:`dimensionless_stiffness`): a mean
+    curve mixes realizations at different loads, and the two estimators can disagree on trends
+    with D.
+
+    The uncertainty is a bootstrap over realizations (``n_boot`` resamples within each grid
+    point, seeded): the interval is k̄ ± z·SE_boot (normal bootstrap), so it always contains k̄.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Study Dataset.
+    loads : array_like, optional
+        Loads F_N [mN/µm] at which to also return k̄ and its bootstrap replicates.
+    n_samples : int
+        Displacement samples of the mean curve.
+    window : int, optional
+        Odd Savitzky–Golay window [samples]; default 5 % of ``n_samples`` (at least 5).
+    polyorder : int
+        Degree of the local polynomial.
+    n_boot : int
+        Bootstrap resamples (≥ 2; 0 skips the uncertainty).
+    confidence : float
+        Level of the intervals [1].
+    seed : int
+        Seed of the bootstrap generator.
+
+    Returns
+    -------
+    xarray.Dataset
+        On (grid…, sample): coordinates ``displacement`` [µm], ``normal_force`` (the mean load
+        F̄ [mN/µm]) and ``dimensionless_load`` [1]; ``stiffness_mean`` [mN/µm²] and
+        ``dimensionless_stiffness_{mean,ci_low,ci_high}`` [1]. With ``loads``, on
+        (grid…, load): ``stiffness_at_load`` [mN/µm²], ``stiffness_at_load_se`` [mN/µm²] and
+        on (grid…, boot, load) ``stiffness_at_load_boot`` [mN/µm²] (the same resamples for every
+        load); and ``count`` on (grid…) (realizations averaged).
+    """
+    _check_samples(n_samples)
+    if not 0.0 < confidence < 1.0:
+        raise ParameterError(f"confidence must lie in (0, 1), got {confidence!r}")
+    if n_boot < 0 or n_boot == 1:
+        raise ParameterError(f"n_boot must be 0 or at least 2, got {n_boot!r}")
+    w = _mean_curve_window(n_samples, window, polyorder)
+    gdims, _, f, x = _mean_curve_pieces(ds, n_samples)
+    load_arr = (
+        np.atleast_1d(np.asarray(loads, dtype=np.float64)) if loads is not None else np.empty(0)
+    )
+    grid_shape = x.shape[:-1]
+    fbar = np.full(x.shape, np.nan)
+    kbar = np.full(x.shape, np.nan)
+    k_se = np.full(x.shape, np.nan)
+    counts = np.zeros(grid_shape, dtype=np.int64)
+    at = np.full((*grid_shape, load_arr.size), np.nan)
+    at_boot = np.full((*grid_shape, n_boot, load_arr.size), np.nan)
+    z = float(stats.norm.ppf(0.5 + confidence / 2.0))
+    for flat, gp in enumerate(np.ndindex(*grid_shape)):
+        rows = f[gp][np.isfinite(f[gp]).all(axis=-1)]
+        n_r = rows.shape[0]
+        counts[gp] = n_r
+        dx = float(np.mean(np.diff(x[gp])))
+        if n_r == 0 or not dx > 0:
+            continue
+        fbar[gp] = rows.mean(axis=0)
+        kbar[gp] = _savgol_rows(fbar[gp], dx, w, polyorder)
+        at[gp] = _first_crossing(fbar[gp][None], kbar[gp][None], load_arr)[0]
+        if n_boot and n_r >= 2:
+            rng = np.random.default_rng([seed, flat])
+            weights = rng.multinomial(n_r, np.full(n_r, 1.0 / n_r), size=n_boot) / n_r
+            fb = weights @ rows
+            kb = _savgol_rows(fb, dx, w, polyorder)
+            k_se[gp] = kb.std(axis=0, ddof=1)
+            at_boot[gp] = _first_crossing(fb, kb, load_arr)
+    e_star = float(np.asarray(parameter(ds, "e_star")).ravel()[0])
+    length = float(np.asarray(parameter(ds, "length")).ravel()[0])
+    coords = _grid_coords(ds, gdims)
+    s_dims = (*gdims, "sample")
+    coords["displacement"] = xr.Variable(s_dims, x, {"units": "µm"})
+    coords["normal_force"] = xr.Variable(
+        s_dims, fbar, {"units": "mN/µm", "long_name": "ensemble-mean normal force F̄_N"}
+    )
+    coords["dimensionless_load"] = xr.Variable(
+        s_dims, fbar / (e_star * length), {"units": "1", "long_name": "F̄_N/(E* L0)"}
+    )
+    k1 = {"units": "1", "long_name": "k/E* of the ensemble-mean curve"}
+    data: dict[str, Any] = {
+        "stiffness_mean": xr.Variable(
+            s_dims, kbar, {"units": "mN/µm²", "long_name": "dF̄_N/dδ_N of the mean curve"}
+        ),
+        "dimensionless_stiffness_mean": xr.Variable(s_dims, kbar / e_star, k1),
+        "dimensionless_stiffness_ci_low": xr.Variable(s_dims, (kbar - z * k_se) / e_star, k1),
+        "dimensionless_stiffness_ci_high": xr.Variable(s_dims, (kbar + z * k_se) / e_star, k1),
+        "count": xr.Variable(gdims, counts, {"units": "1"}),
+    }
+    if load_arr.size:
+        coords["load"] = xr.Variable(("load",), load_arr, {"units": "mN/µm"})
+        data["stiffness_at_load"] = xr.Variable((*gdims, "load"), at, {"units": "mN/µm²"})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            se = np.nanstd(at_boot, axis=-2, ddof=1) if n_boot else np.full(at.shape, np.nan)
+        data["stiffness_at_load_se"] = xr.Variable((*gdims, "load"), se, {"units": "mN/µm²"})
+        data["stiffness_at_load_boot"] = xr.Variable(
+            (*gdims, "boot", "load"), at_boot, {"units": "mN/µm²"}
+        )
+    out = xr.Dataset(data, coords=coords)
+    out.attrs.update(
+        estimator="ensemble-mean curve",
+        window=w,
+        polyorder=polyorder,
+        n_boot=n_boot,
+        confidence=confidence,
+    )
+    return out
+
+
 # --- trend tests for the report ---------------------------------------------------------------
+
+Verdict = Literal["reproduced", "partly reproduced", "not reproduced", "undetermined"]
+TrendShape = Literal["decreasing", "increasing", "not monotone", "no clear trend"]
 
 
 @dataclass(frozen=True)
 class TrendTest:
-    """Spearman rank correlation of group means with a parameter, with a bootstrap interval.
+    """Is a quantity monotone in a parameter? Rank correlation plus adjacent differences.
+
+    Two pieces of evidence, because either alone misleads with a handful of parameter values:
+
+    * Spearman's ρ between the parameter and the group estimates, with its **exact** two-sided
+      p-value over the groups (:func:`spearman_pvalue`). A bootstrap interval of ρ is not a test
+      of a monotone trend: a U-shape can give ρ < 0 in every resample.
+    * The difference between each pair of adjacent groups with a simultaneous (Bonferroni)
+      confidence interval: a step is *down* (*up*) when its whole interval lies below (above) 0.
+
+    :attr:`shape` combines them: ``decreasing`` when ρ < 0 is significant (p ≤ ``alpha``) or
+    every step is down, and no step is up; ``not monotone`` when some step is down and another
+    up; ``no clear trend`` otherwise (symmetrically for ``increasing``).
 
     Attributes
     ----------
     x : ndarray
         Parameter value of each group (e.g. D).
     means : ndarray
-        Mean of each group.
+        Estimate of each group (the mean of its realizations for :func:`trend_test`).
     ci_low, ci_high : ndarray
-        Student-t confidence interval of each group mean.
+        Confidence interval of each group estimate (contains the estimate).
     counts : ndarray
-        Number of finite values per group.
+        Number of realizations behind each estimate.
     rho : float
-        Spearman ρ of the group means with ``x``.
-    rho_low, rho_high : float
-        Percentile bootstrap interval of ρ (realizations resampled within each group).
+        Spearman ρ of the group estimates with ``x`` (NaN with fewer than 3 finite groups).
     p_value : float
-        Two-sided p-value of ρ over the groups (exact for ≤ 9 groups, see
-        :func:`spearman_pvalue`).
+        Exact two-sided p-value of ρ.
+    step_x : ndarray
+        (n_steps, 2): the two parameter values of each adjacent pair (finite groups only).
+    step_diff, step_low, step_high : ndarray
+        Difference (later − earlier) and its simultaneous interval, per adjacent pair.
+    step_sign : ndarray
+        −1 (down), +1 (up) or 0 (interval contains 0, or not computable) per adjacent pair.
+    alpha : float
+        Significance level of ρ [1].
+    confidence : float
+        Level of the group intervals and the family level of the step intervals [1].
     """
 
     x: NDArray[np.float64]
@@ -1030,42 +1257,143 @@ class TrendTest:
     ci_high: NDArray[np.float64]
     counts: NDArray[np.int64]
     rho: float
-    rho_low: float
-    rho_high: float
     p_value: float
+    step_x: NDArray[np.float64]
+    step_diff: NDArray[np.float64]
+    step_low: NDArray[np.float64]
+    step_high: NDArray[np.float64]
+    step_sign: NDArray[np.int64]
+    alpha: float = 0.05
+    confidence: float = 0.95
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     @property
+    def enough(self) -> bool:
+        """At least three groups with an estimate and an interval."""
+        ok = np.isfinite(self.means) & np.isfinite(self.ci_low) & np.isfinite(self.ci_high)
+        return bool(ok.sum() >= 3 and math.isfinite(self.rho))
+
+    @property
+    def shape(self) -> TrendShape:
+        """``decreasing``, ``increasing``, ``not monotone`` or ``no clear trend`` (see class)."""
+        down = bool((self.step_sign == -1).any())
+        up = bool((self.step_sign == 1).any())
+        if down and up:
+            return "not monotone"
+        significant = math.isfinite(self.p_value) and self.p_value <= self.alpha
+        every = self.step_sign.size >= 2
+        if not up and ((significant and self.rho < 0) or (every and (self.step_sign == -1).all())):
+            return "decreasing"
+        if not down and ((significant and self.rho > 0) or (every and (self.step_sign == 1).all())):
+            return "increasing"
+        return "no clear trend"
+
+    @property
     def decreasing(self) -> bool:
-        """True if the whole bootstrap interval of ρ lies below 0."""
-        return bool(self.rho_high < 0)
+        """True if :attr:`shape` is ``decreasing``."""
+        return self.shape == "decreasing"
 
     @property
     def increasing(self) -> bool:
-        """True if the whole bootstrap interval of ρ lies above 0."""
-        return bool(self.rho_low > 0)
+        """True if :attr:`shape` is ``increasing``."""
+        return self.shape == "increasing"
+
+    def verdict(self, direction: Literal["decreasing", "increasing"]) -> Verdict:
+        """Verdict on the claim "the quantity is monotone ``direction`` in x".
+
+        ``reproduced`` when :attr:`shape` equals ``direction``; ``partly reproduced`` when the
+        groups are not monotone but ρ has the claimed sign, or when there is no clear trend
+        but some step goes the claimed way and none the other; ``not reproduced`` otherwise;
+        ``undetermined`` with fewer than three usable groups.
+        """
+        if direction not in ("decreasing", "increasing"):
+            raise ParameterError(
+                f"direction must be 'decreasing' or 'increasing', got {direction!r}"
+            )
+        if not self.enough:
+            return "undetermined"
+        sign = -1 if direction == "decreasing" else 1
+        shape = self.shape
+        if shape == direction:
+            return "reproduced"
+        along = bool((self.step_sign == sign).any())
+        against = bool((self.step_sign == -sign).any())
+        rho_along = math.isfinite(self.rho) and self.rho * sign > 0
+        if shape == "not monotone":
+            return "partly reproduced" if rho_along else "not reproduced"
+        if shape == "no clear trend" and along and not against and rho_along:
+            return "partly reproduced"
+        return "not reproduced"
+
+    def describe(self) -> str:
+        """One phrase: the shape, ρ with its exact p, and the significant steps."""
+        words = {
+            "decreasing": "falls",
+            "increasing": "rises",
+            "not monotone": "not monotone",
+            "no clear trend": "no clear trend",
+        }
+        text = f"{words[self.shape]} (ρ = {_num(self.rho, 2)}, exact p = {_num(self.p_value, 2)}"
+        steps = [
+            f"{'↓' if s < 0 else '↑'} {a:g}→{b:g}"
+            for (a, b), s in zip(self.step_x, self.step_sign, strict=True)
+            if s != 0
+        ]
+        n = int(self.step_sign.size)
+        text += f"; significant steps {len(steps)} of {n}" + (
+            f": {', '.join(steps)}" if steps else ""
+        )
+        return text + ")"
 
 
-@functools.lru_cache(maxsize=16)
-def _spearman_null(n: int) -> NDArray[np.float64]:
-    """Exact null distribution of Spearman's ρ for n untied values (all n! rank orders)."""
-    perms = np.array(list(itertools.permutations(range(n))), dtype=np.float64)
-    d2 = ((perms - np.arange(n)) ** 2).sum(axis=1)
-    return np.asarray(1.0 - 6.0 * d2 / (n * (n * n - 1.0)))
+def _num(x: float, digits: int) -> str:
+    return f"{x:.{digits}g}" if math.isfinite(x) else "–"
+
+
+@functools.lru_cache(maxsize=32)
+def _spearman_null(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Exact null distribution of Spearman's ρ for n untied values: (ρ values, probabilities).
+
+    Counts the permutations π by S = Σ i·π(i) with a dynamic programme over subsets (2ⁿ states),
+    so n = 12 costs milliseconds where enumerating 12! orders would not finish.
+    """
+    s_max = sum(i * i for i in range(n))
+    dp = np.zeros((1 << n, s_max + 1), dtype=np.float64)
+    dp[0, 0] = 1.0
+    for mask in range(1 << n):
+        row = dp[mask]
+        if not row.any():
+            continue
+        i = mask.bit_count()
+        for v in range(n):
+            if not (mask >> v) & 1:
+                shift = i * v
+                dp[mask | (1 << v), shift:] += row[: s_max + 1 - shift]
+    counts = dp[-1]
+    s = np.arange(s_max + 1, dtype=np.float64)
+    sum_d2 = 2.0 * s_max - 2.0 * s
+    rho = 1.0 - 6.0 * sum_d2 / (n * (n * n - 1.0))
+    keep = counts > 0
+    return rho[keep], counts[keep] / counts.sum()
+
+
+#: Largest number of groups with an exact p-value (above: Student-t approximation).
+EXACT_SPEARMAN_MAX = 12
 
 
 def spearman_pvalue(rho: float, n: int) -> float:
     """Two-sided p-value of Spearman's ρ for n groups without ties.
 
-    Exact (enumeration of all n! orders) for n ≤ 9, the t approximation of scipy above. For the
-    handful of parameter values of a study the t approximation is far off (it gives p = 0 for
-    ρ = ±1 with n = 3, where the exact value is 1/3).
+    Exact for n ≤ :data:`EXACT_SPEARMAN_MAX` (all n! orders, counted by a dynamic programme);
+    the Student-t approximation of scipy above. For the handful of parameter values of a study
+    the t approximation is far off (it gives p = 0 for ρ = ±1 with n = 3, where the exact value
+    is 1/3).
     """
     if not math.isfinite(rho) or n < 3:
         return math.nan
-    if n <= 9:
-        null = _spearman_null(n)
-        return float(np.mean(np.abs(null) >= abs(rho) - 1e-12))
+    if n <= EXACT_SPEARMAN_MAX:
+        values, probs = _spearman_null(n)
+        return float(probs[np.abs(values) >= abs(rho) - 1e-12].sum())
     t = rho * math.sqrt((n - 2) / max(1e-300, 1.0 - rho * rho))
     return float(2 * stats.t.sf(abs(t), n - 2))
 
@@ -1094,90 +1422,146 @@ def bootstrap_means(
     return out
 
 
-def _ranks(a: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.argsort(np.argsort(a, axis=-1), axis=-1).astype(np.float64)
+def trend_from_estimates(
+    x: ArrayLike,
+    estimates: ArrayLike,
+    standard_errors: ArrayLike,
+    *,
+    dof: ArrayLike | None = None,
+    counts: ArrayLike | None = None,
+    confidence: float = 0.95,
+    alpha: float = 0.05,
+) -> TrendTest:
+    """Trend test (see :class:`TrendTest`) from per-group estimates and standard errors.
 
+    Parameters
+    ----------
+    x : array_like
+        Parameter of each group, increasing.
+    estimates : array_like
+        Estimate of each group (NaN: no estimate).
+    standard_errors : array_like
+        Standard error of each estimate [unit of the estimates].
+    dof : array_like, optional
+        Degrees of freedom of each standard error (n − 1 for a mean): Student-t and Welch
+        intervals. Without it (e.g. bootstrap standard errors) normal quantiles are used.
+    counts : array_like, optional
+        Realizations behind each estimate (reported only).
+    confidence : float
+        Level of the group intervals, and the family-wise level of the step intervals [1].
+    alpha : float
+        Significance level of the exact Spearman test [1].
 
-def _bootstrap_spearman(
-    x: NDArray[np.float64],
-    groups: Sequence[NDArray[np.float64]],
-    n_boot: int,
-    rng: np.random.Generator,
-) -> NDArray[np.float64]:
-    """Spearman ρ of x with resampled group means, vectorized over the resamples."""
-    keep = np.array([g.size > 0 for g in groups])
-    if keep.sum() < 3:
-        return np.full(n_boot, np.nan)
-    means = bootstrap_means([g for g, k in zip(groups, keep, strict=True) if k], n_boot, rng)
-    rx = _ranks(x[keep])
-    rx = rx - rx.mean()
-    ry = _ranks(means)
-    ry = ry - ry.mean(axis=1, keepdims=True)
-    denom = np.sqrt((rx**2).sum() * (ry**2).sum(axis=1))
+    Returns
+    -------
+    TrendTest
+    """
+    if not 0.0 < confidence < 1.0:
+        raise ParameterError(f"confidence must lie in (0, 1), got {confidence!r}")
+    if not 0.0 < alpha < 1.0:
+        raise ParameterError(f"alpha must lie in (0, 1), got {alpha!r}")
+    xa = np.asarray(x, dtype=np.float64)
+    est = np.asarray(estimates, dtype=np.float64)
+    se = np.asarray(standard_errors, dtype=np.float64)
+    if not xa.shape == est.shape == se.shape or xa.ndim != 1:
+        raise ParameterError(
+            f"x, estimates and standard_errors must be 1-D of one length, got shapes "
+            f"{xa.shape}, {est.shape}, {se.shape}"
+        )
+    nu = np.asarray(dof, dtype=np.float64) if dof is not None else np.full(xa.shape, np.inf)
+    cnt = (
+        np.asarray(counts, dtype=np.int64)
+        if counts is not None
+        else np.where(np.isfinite(est), 1, 0).astype(np.int64)
+    )
+
+    def quantile(level: float, df: NDArray[np.float64]) -> NDArray[np.float64]:
+        with np.errstate(invalid="ignore"):
+            return np.asarray(
+                np.where(
+                    np.isinf(df),
+                    stats.norm.ppf(level),
+                    stats.t.ppf(level, np.where(df > 0, df, np.nan)),
+                )
+            )
+
+    half = quantile(0.5 + confidence / 2.0, nu) * se
+    good = np.flatnonzero(np.isfinite(est))
+    rho = _spearman(xa, est)
+    p_value = spearman_pvalue(rho, int(good.size))
+    a, b = good[:-1], good[1:]
+    m = max(1, a.size)
+    diff = est[b] - est[a]
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.asarray((ry * rx).sum(axis=1) / denom)
+        se_d = np.sqrt(se[a] ** 2 + se[b] ** 2)
+        welch = se_d**4 / (se[a] ** 4 / nu[a] + se[b] ** 4 / nu[b])
+    welch = np.where(np.isinf(nu[a]) & np.isinf(nu[b]), np.inf, welch)
+    half_d = quantile(1.0 - (1.0 - confidence) / (2.0 * m), welch) * se_d
+    low, high = diff - half_d, diff + half_d
+    sign = np.where(high < 0, -1, np.where(low > 0, 1, 0)).astype(np.int64)
+    sign[~np.isfinite(low) | ~np.isfinite(high)] = 0
+    return TrendTest(
+        x=xa,
+        means=est,
+        ci_low=est - half,
+        ci_high=est + half,
+        counts=cnt,
+        rho=rho,
+        p_value=p_value,
+        step_x=np.column_stack([xa[a], xa[b]]) if a.size else np.empty((0, 2)),
+        step_diff=diff,
+        step_low=low,
+        step_high=high,
+        step_sign=sign,
+        alpha=alpha,
+        confidence=confidence,
+    )
 
 
 def trend_test(
     x: ArrayLike,
     groups: Sequence[ArrayLike],
     *,
-    n_boot: int = 2000,
     confidence: float = 0.95,
-    seed: int = 0,
+    alpha: float = 0.05,
 ) -> TrendTest:
     """Does the group mean rise or fall monotonically with ``x``?
 
-    The statistic is Spearman's ρ between ``x`` and the group means; its uncertainty is a
-    percentile bootstrap: the values of every group are resampled with replacement (realizations
-    are independent), the means and ρ recomputed ``n_boot`` times. A trend is called decreasing
-    (increasing) when the whole bootstrap interval lies below (above) zero.
+    Group means with Student-t intervals, adjacent differences with simultaneous Welch
+    intervals (Bonferroni over the adjacent pairs), and Spearman's ρ of the means with its
+    exact p-value; see :class:`TrendTest` for how they are combined.
 
     Parameters
     ----------
     x : array_like
-        Parameter of each group (at least 3 groups).
+        Parameter of each group, increasing (at least 3 groups for a verdict).
     groups : sequence of array_like
         Per-realization values of each group (NaN are dropped).
-    n_boot : int
-        Number of bootstrap resamples.
     confidence : float
         Level of the intervals [1].
-    seed : int
-        Seed of the bootstrap generator (results are reproducible).
+    alpha : float
+        Significance level of the exact Spearman test [1].
 
     Returns
     -------
     TrendTest
     """
     xa = np.asarray(x, dtype=np.float64)
-    vals = [np.asarray(g, dtype=np.float64) for g in groups]
+    vals = [np.asarray(g, dtype=np.float64).ravel() for g in groups]
     vals = [v[np.isfinite(v)] for v in vals]
     if xa.size != len(vals):
         raise ParameterError(f"x has {xa.size} values but there are {len(vals)} groups")
     counts = np.array([v.size for v in vals], dtype=np.int64)
     means = np.array([v.mean() if v.size else np.nan for v in vals])
     stds = np.array([v.std(ddof=1) if v.size >= 2 else np.nan for v in vals])
-    half = confidence_halfwidth(stds, counts, confidence)
-    rho = _spearman(xa, means)
-    good = np.isfinite(means)
-    p_value = spearman_pvalue(rho, int(good.sum()))
-    rng = np.random.default_rng(seed)
-    boots = _bootstrap_spearman(xa, vals, n_boot, rng)
-    alpha = (1.0 - confidence) / 2.0
-    finite = boots[np.isfinite(boots)]
-    if finite.size and math.isfinite(rho):
-        lo, hi = (float(q) for q in np.quantile(finite, [alpha, 1.0 - alpha]))
-    else:
-        lo = hi = math.nan
-    return TrendTest(
-        x=xa,
-        means=means,
-        ci_low=means - half,
-        ci_high=means + half,
+    with np.errstate(invalid="ignore", divide="ignore"):
+        se = stds / np.sqrt(counts)
+    return trend_from_estimates(
+        xa,
+        means,
+        se,
+        dof=np.where(counts >= 2, counts - 1.0, np.nan),
         counts=counts,
-        rho=rho,
-        rho_low=lo,
-        rho_high=hi,
-        p_value=p_value,
+        confidence=confidence,
+        alpha=alpha,
     )

@@ -1,26 +1,26 @@
 """Figures of the paper (Figs. 3a, 4, 5, 8, 9, 10, 11, 12) from profiles and study results.
 
 Every plotting function takes ``ax=`` (a matplotlib ``Axes``; a new figure is made when it is
-``None``) and returns the axes, so figures can be composed freely. No pyplot state is used: new
-figures are :class:`matplotlib.figure.Figure` objects rendered with the Agg backend. Axes carry
+``None``) and returns the axes, so figures can be composed freely. No pyplot state is used and
+importing this module never changes the matplotlib backend: new figures are
+:class:`matplotlib.figure.Figure` objects, written by their own canvas. Axes carry
 their units: lengths µm (heights in nm where they are nanometre-sized), forces mN per µm of
 thickness.
 
-:func:`make_figures` builds every figure from a study Dataset and writes PNG and SVG files; it is
-what ``splinecontact plot`` and ``splinecontact reproduce`` call.
+:func:`make_figures` builds every figure from a study Dataset in memory (:func:`build_figures`),
+then writes PNG and SVG files under the package's output rule (:func:`write_figures`); it is what
+``splinecontact plot`` and ``splinecontact reproduce`` call.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import matplotlib
-
-matplotlib.use("Agg", force=False)
-
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
@@ -29,12 +29,16 @@ from matplotlib.patches import Circle
 from numpy.typing import NDArray
 
 from . import analysis
-from .errors import ParameterError
+from .errors import ParameterError, SplineContactError
+from .outputs import OutputFolder, atomic_path, prepare_output_folder
 from .profile import Profile
 
 __all__ = [
     "FIGURE_FILES",
+    "build_figures",
     "dimension_colors",
+    "drawable_study",
+    "illustrative_figures",
     "make_figures",
     "make_illustrative_figures",
     "make_study_figures",
@@ -51,6 +55,8 @@ __all__ = [
     "plot_spheres",
     "plot_spline_fits",
     "save_figure",
+    "study_figures",
+    "write_figures",
 ]
 
 #: Base names of the figures :func:`make_figures` writes (each as .png and .svg). Per-grid-point
@@ -74,7 +80,7 @@ NM_PER_UM = 1000.0
 
 
 def new_axes(ax: Axes | None = None, *, figsize: tuple[float, float] = (6.4, 4.6)) -> Axes:
-    """Return ``ax``, or the axes of a new Agg-rendered figure of ``figsize`` [inch]."""
+    """Return ``ax``, or the axes of a new :class:`~matplotlib.figure.Figure` [inch size]."""
     if ax is not None:
         return ax
     fig = Figure(figsize=figsize, layout="constrained")
@@ -84,13 +90,20 @@ def new_axes(ax: Axes | None = None, *, figsize: tuple[float, float] = (6.4, 4.6
 def save_figure(
     fig: Figure, stem: str | Path, *, formats: Sequence[str] = ("png", "svg"), dpi: int = 150
 ) -> list[Path]:
-    """Write ``fig`` as ``stem.png`` and ``stem.svg`` (or ``formats``) and return the paths."""
+    """Write ``fig`` as ``stem.png`` and ``stem.svg`` (or ``formats``) and return the paths.
+
+    Each file is written to a temporary name beside it and renamed (no partial file). The
+    folder of ``stem`` must exist. For a folder of figures use :func:`write_figures`, which
+    follows the package's output rule.
+    """
     stem = Path(stem)
-    stem.parent.mkdir(parents=True, exist_ok=True)
     paths = []
-    for fmt in formats:
+    for i, fmt in enumerate(formats):
         path = stem.with_name(f"{stem.name}.{fmt}")
-        fig.savefig(path, dpi=dpi, format=fmt)
+        with atomic_path(path) as tmp:
+            _render(fig, tmp, fmt, dpi)
+        if i == 0 and fig.get_layout_engine() is not None:
+            fig.set_layout_engine("none")  # keep the first layout: no second constrained layout
         paths.append(path)
     return paths
 
@@ -515,12 +528,15 @@ def plot_spheres(
     s = NM_PER_UM
     for body, sign, offset, color, name in bodies:
         sph = surface_spheres(body)
+        # the sphere arrays are properties computed over the whole profile: evaluate them once
+        curvature, normal_x, normal_z = sph.curvature, sph.normal_x, sph.normal_z
+        centre_x, centre_z = sph.centre_x, sph.centre_z
         z = offset + sign * body.f
         ax.plot(body.x[sel] * s, z[sel] * s, color=color, lw=1.5, label=f"{name} spline")
         arrow = 0.06 * width * s
         for i in sel[::every]:
-            k = sph.curvature[i]
-            nx, nz = sph.normal_x[i], sign * sph.normal_z[i]
+            k = curvature[i]
+            nx, nz = normal_x[i], sign * normal_z[i]
             ax.annotate(
                 "",
                 xy=(body.x[i] * s + arrow * nx, z[i] * s + arrow * nz),
@@ -529,8 +545,8 @@ def plot_spheres(
             )
             if k == 0 or 1 / abs(k) > rmax:
                 continue
-            cx = sph.centre_x[i]
-            cz = offset + sign * sph.centre_z[i]
+            cx = centre_x[i]
+            cz = offset + sign * centre_z[i]
             ls = "-" if k > 0 else ":"
             ax.add_patch(
                 Circle(
@@ -634,12 +650,16 @@ def plot_contact_zoom(
     sph_l = surface_spheres(lower_fit)
     sph_u = surface_spheres(upper_fit) if upper_fit is not None else None
     inside = [int(i) for i in record.point if xlim[0] <= lower_fit.x[i] <= xlim[1]]
+    kl_all, clx, clz = sph_l.curvature, sph_l.centre_x, sph_l.centre_z
+    ku_all = sph_u.curvature if sph_u is not None else None
+    cux = sph_u.centre_x if sph_u is not None else None
+    cuz = sph_u.centre_z if sph_u is not None else None
     for n, i in enumerate(inside):
-        kl = sph_l.curvature[i]
+        kl = kl_all[i]
         if kl != 0:
             ax.add_patch(
                 Circle(
-                    (sph_l.centre_x[i] * s, sph_l.centre_z[i] * s),
+                    (clx[i] * s, clz[i] * s),
                     s / abs(kl),
                     fill=False,
                     color="red",
@@ -649,12 +669,12 @@ def plot_contact_zoom(
                     else None,
                 )
             )
-        if sph_u is not None and sph_u.curvature[i] != 0:
-            ku = sph_u.curvature[i]
-            cz = offset - displacement - sph_u.centre_z[i]
+        if ku_all is not None and cux is not None and cuz is not None and ku_all[i] != 0:
+            ku = ku_all[i]
+            cz = offset - displacement - cuz[i]
             ax.add_patch(
                 Circle(
-                    (sph_u.centre_x[i] * s, cz * s),
+                    (cux[i] * s, cz * s),
                     s / abs(ku),
                     fill=False,
                     color="red",
@@ -687,7 +707,7 @@ def plot_contact_zoom(
 
 
 def _panel_selections(ens: xr.Dataset, hue: str) -> list[tuple[str, dict[str, Any]]]:
-    others = [str(d) for d in ens.dims if d not in (hue, "sample", "realization")]
+    others = [str(d) for d in ens.dims if d not in (hue, "sample", "realization", "load", "boot")]
     if not others:
         return [("", {})]
     out = []
@@ -707,26 +727,81 @@ def _summary_at_final_step(split: xr.Dataset, confidence: float) -> xr.Dataset:
     return xr.merge(parts, compat="override", combine_attrs="override")
 
 
-def make_study_figures(
+def drawable_study(ds: xr.Dataset) -> tuple[xr.Dataset, list[str]]:
+    """The part of a study the figures can be drawn from, and notes on what was left out.
+
+    A study without any swept parameter gets a one-value ``dimension`` grid dimension (from its
+    ``dimension`` attribute); realizations whose displacement or force curves are not finite
+    are treated as failed; values of D at which some grid point has no usable realization are
+    left out.
+
+    Raises
+    ------
+    AnalysisError
+        Nothing is left to draw (no successful realization with finite curves).
+    """
+    from .study import STATUS_OK
+
+    notes: list[str] = []
+    for name in ("status", "displacement", "normal_force"):
+        if name not in ds.variables:
+            raise analysis.AnalysisError(f"the study has no variable {name!r}: nothing to draw")
+    if not analysis.grid_dims(ds):
+        d = float(ds.attrs.get("dimension", np.nan))
+        ds = ds.expand_dims(dimension=[d])
+    ok = analysis.ok_mask(ds)
+    finite = xr.apply_ufunc(np.isfinite, ds["displacement"]).all("step") & xr.apply_ufunc(
+        np.isfinite, ds["normal_force"]
+    ).all("step")
+    bad = ok & ~finite
+    if bool(bad.any()):
+        notes.append(
+            f"{int(bad.sum())} realization(s) with non-finite displacement or force left out"
+        )
+        ds = ds.assign(status=ds["status"].where(~bad, 2).astype(ds["status"].dtype))
+        ok = analysis.ok_mask(ds)
+    usable = ok.any("realization")
+    if "dimension" in ds.dims:
+        others = [d for d in usable.dims if d != "dimension"]
+        keep_d = usable.all(others) if others else usable
+        dropped = [float(v) for v in ds["dimension"].values[~keep_d.values]]
+        if dropped and keep_d.any():
+            notes.append(
+                "D = " + ", ".join(f"{v:g}" for v in dropped) + " left out (no successful "
+                "realization at some grid point)"
+            )
+        ds = ds.isel(dimension=np.flatnonzero(keep_d.values))
+        usable = analysis.ok_mask(ds).any("realization")
+    if ds.sizes.get("dimension", 1) == 0 or not bool(usable.all()):
+        n_ok = int((ds["status"] == STATUS_OK).sum()) if ds["status"].size else 0
+        raise analysis.AnalysisError(
+            f"the study has no grid point with a successful realization with finite curves "
+            f"({n_ok} usable realizations): nothing to draw; run or resume the study first"
+        )
+    return ds, notes
+
+
+def study_figures(
     ds: xr.Dataset,
-    out_dir: str | Path,
     *,
     measured_hurst: Mapping[float, float] | None = None,
     kappa_options: Mapping[str, Any] | None = None,
-) -> dict[str, list[Path]]:
-    """Figs. 10, 11, 12 and the force-split diagnostics from a study Dataset.
+) -> dict[str, Figure]:
+    """Figs. 10, 11, 12 and the force-split diagnostics as in-memory figures (nothing written).
+
+    Fig. 11a shows the stiffness of the ensemble-mean F_N(δ_N) curve
+    (:func:`splinecontact.analysis.mean_curve_stiffness`), the estimator of the paper.
 
     Returns
     -------
-    dict of str to list of Path
-        Figure name (with suffix) → written files (PNG and SVG).
+    dict of str to Figure
+        Figure name (with suffix) → figure.
     """
-    out_dir = Path(out_dir)
     hue = "dimension" if "dimension" in ds.dims else analysis.grid_dims(ds)[0]
     ens_d = analysis.ensemble_vs_displacement(ds, ["normal_force"])
     ens_f = analysis.ensemble_vs_force(ds)
-    ens_k = analysis.dimensionless_stiffness(ds)
-    written: dict[str, list[Path]] = {}
+    ens_k = analysis.mean_curve_stiffness(ds, n_boot=200)
+    figures: dict[str, Figure] = {}
     for suffix, sel in _panel_selections(ens_d, hue):
         fig = Figure(figsize=(11, 4.4), layout="constrained")
         a, b = fig.subplots(1, 2)
@@ -734,14 +809,18 @@ def make_study_figures(
         plot_separation_force(ens_f.sel(sel), ax=b, hue=hue)
         a.set_title(f"(a) {suffix.lstrip('_')}", loc="left", fontsize="medium")
         b.set_title("(b)", loc="left", fontsize="medium")
-        written[f"fig10{suffix}"] = save_figure(fig, out_dir / f"fig10{suffix}")
+        figures[f"fig10{suffix}"] = fig
         fig = Figure(figsize=(11, 4.4), layout="constrained")
         a, b = fig.subplots(1, 2)
         plot_dimensionless_stiffness(ens_k.sel(sel), ax=a, hue=hue)
         plot_area_force(ens_f.sel(sel), ax=b, hue=hue)
-        a.set_title(f"(a) {suffix.lstrip('_')}", loc="left", fontsize="medium")
+        a.set_title(
+            f"(a) {suffix.lstrip('_')}: k of the ensemble-mean curve, ± 95 % bootstrap",
+            loc="left",
+            fontsize="small",
+        )
         b.set_title("(b)", loc="left", fontsize="medium")
-        written[f"fig11{suffix}"] = save_figure(fig, out_dir / f"fig11{suffix}")
+        figures[f"fig11{suffix}"] = fig
     if "dimension" in ds.dims:
         kap = analysis.kappa(ds, **dict(kappa_options or {}))
         others = [d for d in analysis.grid_dims(ds) if d not in ("dimension", "contact_type")]
@@ -757,19 +836,42 @@ def make_study_figures(
             f"{kap.attrs['fit_fraction']:g} × final load; mean ± 95 % CI",
             fontsize="small",
         )
-        fig_k = ax.figure
-        assert isinstance(fig_k, Figure)
-        written["fig12_kappa"] = save_figure(fig_k, out_dir / "fig12_kappa")
+        figures["fig12_kappa"] = _figure_of(ax)
         split = analysis.force_split(ds)
         summary = _summary_at_final_step(split, 0.95)
         if others:
             summary = summary.isel(dict.fromkeys(others, 0))
         ax = new_axes()
         plot_force_split(summary, ax=ax)
-        fig_s = ax.figure
-        assert isinstance(fig_s, Figure)
-        written["diag_force_split"] = save_figure(fig_s, out_dir / "diag_force_split")
-    return written
+        figures["diag_force_split"] = _figure_of(ax)
+    return figures
+
+
+def _figure_of(ax: Axes) -> Figure:
+    fig = ax.figure
+    assert isinstance(fig, Figure)
+    return fig
+
+
+def make_study_figures(
+    ds: xr.Dataset,
+    out_dir: str | Path | OutputFolder,
+    *,
+    measured_hurst: Mapping[float, float] | None = None,
+    kappa_options: Mapping[str, Any] | None = None,
+    overwrite: bool = False,
+) -> dict[str, list[Path]]:
+    """Figs. 10, 11, 12 and the force-split diagnostics, written as PNG and SVG.
+
+    ``out_dir`` follows the package's output rule (:func:`write_figures`).
+
+    Returns
+    -------
+    dict of str to list of Path
+        Figure name (with suffix) → written files (PNG and SVG).
+    """
+    figures = study_figures(ds, measured_hurst=measured_hurst, kappa_options=kappa_options)
+    return write_figures(figures, out_dir, overwrite=overwrite)
 
 
 def _generator_kwargs(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -790,84 +892,104 @@ def _scalar(value: Any) -> Any:
     return value
 
 
-def make_illustrative_figures(
-    out_dir: str | Path,
+def illustrative_figures(
     *,
     dimensions: Sequence[float] = (1.0, 1.2, 1.4, 1.6, 1.8, 1.9),
     params: Mapping[str, Any] | None = None,
     seed: int = 2015,
     alphas: Sequence[float] = (1.0, 2.0, 3.0),
     focus_dimension: float = 1.4,
-) -> tuple[dict[str, list[Path]], dict[float, float]]:
-    """Figs. 3a, 4, 5, 8 and 9 from freshly generated profiles (the study's fixed parameters).
+    study_seed: bool = False,
+    final_displacement: float | None = None,
+) -> tuple[dict[str, Figure], dict[float, float]]:
+    """Figs. 3a, 4, 5, 8 and 9 as in-memory figures, from generated profiles.
+
+    Profiles generated: one per D of ``dimensions`` (Fig. 3a; their Hurst exponents are
+    returned) and the upper profile of the pair at ``focus_dimension`` (Figs. 4, 5, 8, 9) —
+    ``len(dimensions) + 1`` profiles (one more if ``focus_dimension`` is not in
+    ``dimensions``). Fig. 9 simulates the pair up to a quarter of the steps only.
 
     Parameters
     ----------
-    out_dir : path
-        Directory for the figures.
     dimensions : sequence of float
-        Fractal dimensions D of Fig. 3a (and of the measured Hurst exponents returned).
+        Fractal dimensions D of Fig. 3a.
     params : mapping, optional
         Generator and simulation parameters (``n_points``, ``length`` [µm], ``e_star`` [GPa],
         ``alpha``, ``steps``, ...; unknown keys are ignored).
     seed : int
-        Seed of the illustrative profiles.
+        Seed of the profiles.
     alphas : sequence of float
         Tightness exponents of Fig. 4.
     focus_dimension : float
         D of the pair used in Figs. 4, 5, 8 and 9 (paper Fig. 4: D = 1.4).
+    study_seed : bool
+        Interpret ``seed`` as a study seed: the profiles are then those of the study's
+        realization 0 (lower profile of each D, and the rough-on-rough pair at
+        ``focus_dimension``), by the seed rule of :func:`splinecontact.study.realization_seed`.
+    final_displacement : float, optional
+        Final displacement of the pair [µm] (e.g. the one the study stored for realization 0);
+        default: the ``final_displacement_factor`` rule of :func:`splinecontact.simulate`.
 
     Returns
     -------
     (dict, dict)
-        Written files per figure, and D → measured Hurst exponent (PSD slope) of the Fig. 3a
-        profiles.
+        Figures by name, and D → measured Hurst exponent (PSD slope) of the Fig. 3a profiles.
     """
     from .contact import simulate
-    from .generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
+    from .generate import child_seed, weierstrass_mandelbrot
     from .spline import fit_spline
+    from .study import realization_seed
 
-    out_dir = Path(out_dir)
     params = {k: _scalar(v) for k, v in dict(params or {}).items()}
     gen = _generator_kwargs(params)
     sim = _simulate_kwargs(params)
     alpha = float(sim.get("alpha", 2.0))
     x0 = float(sim.get("x0", 1.0))
-    written: dict[str, list[Path]] = {}
-    seeds = np.random.SeedSequence(seed).spawn(len(dimensions) + 1)
+    figures: dict[str, Figure] = {}
+    dims = [float(d) for d in dimensions]
+    if study_seed:
+        parent = realization_seed(int(seed), 0)
+        lower_seeds = [child_seed(parent, 0)] * len(dims)
+        focus_seeds = (child_seed(parent, 0), child_seed(parent, 1))
+    else:
+        spawned = np.random.SeedSequence(seed).spawn(len(dims) + 1)
+        lower_seeds = list(spawned[: len(dims)])
+        focus_seeds = (child_seed(spawned[-1], 0), child_seed(spawned[-1], 1))
     profiles = [
-        weierstrass_mandelbrot(float(d), seed=s, **gen)
-        for d, s in zip(dimensions, seeds, strict=False)
+        weierstrass_mandelbrot(d, seed=s, **gen) for d, s in zip(dims, lower_seeds, strict=True)
     ]
-    hurst = dict(
-        zip(
-            (float(d) for d in dimensions),
-            (float(h) for h in analysis.measured_hurst(profiles)),
-            strict=True,
-        )
-    )
+    hurst = dict(zip(dims, (float(h) for h in analysis.measured_hurst(profiles)), strict=True))
     length = float(profiles[0].length)
     ax = new_axes(figsize=(8, 6))
     plot_profiles(
-        profiles, labels=[f"D = {d:g}" for d in dimensions], ax=ax, xlim=(0.0, min(10.0, length))
+        profiles, labels=[f"D = {d:g}" for d in dims], ax=ax, xlim=(0.0, min(10.0, length))
     )
     ax.set_title(
         f"first {min(10.0, length):g} µm of {length:g} µm profiles, "
         f"R_A = {profiles[0].ra * NM_PER_UM:.3g} nm",
         fontsize="small",
     )
-    written["fig03_profiles"] = _save_axes(ax, out_dir / "fig03_profiles")
+    figures["fig03_profiles"] = _figure_of(ax)
 
-    lower, upper = weierstrass_mandelbrot_pair(float(focus_dimension), seed=seeds[-1], **gen)
+    focus = float(focus_dimension)
+    same = [i for i, d in enumerate(dims) if d == focus]
+    lower = (
+        profiles[same[0]]
+        if same and study_seed
+        else weierstrass_mandelbrot(focus, seed=focus_seeds[0], **gen)
+    )
+    upper = weierstrass_mandelbrot(focus, seed=focus_seeds[1], **gen)
     dx = lower.dx
     fits = [fit_spline(lower, alpha=a, x0=x0) for a in alphas]
     centre = float(lower.x[np.argmax(lower.z)])
     ax = new_axes()
     plot_spline_fits(lower, fits, ax=ax, xlim=(centre - 60 * dx, centre + 60 * dx))
-    ax.set_title(f"D = {focus_dimension:g}, dx = {dx * NM_PER_UM:.3g} nm", fontsize="small")
-    written["fig04_spline_alpha"] = _save_axes(ax, out_dir / "fig04_spline_alpha")
+    ax.set_title(f"D = {focus:g}, dx = {dx * NM_PER_UM:.3g} nm", fontsize="small")
+    figures["fig04_spline_alpha"] = _figure_of(ax)
 
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+    fit_l = next((f for f in fits if f.alpha == alpha), None) or fit_spline(
+        lower, alpha=alpha, x0=x0
+    )
     fit_u = fit_spline(upper, alpha=alpha, x0=x0)
     zu, _ = _upper_global(fit_l, fit_u)
     i0 = int(np.argmin(zu - fit_l.f))
@@ -876,63 +998,268 @@ def make_illustrative_figures(
     plot_spheres(
         fit_l, upper_fit=fit_u, ax=ax, xlim=(x_first - 60 * dx, x_first + 60 * dx), every=6
     )
-    ax.set_title(
-        f"D = {focus_dimension:g}, at the first contact point, α = {alpha:g}", fontsize="small"
-    )
-    written["fig05_spheres"] = _save_axes(ax, out_dir / "fig05_spheres")
+    ax.set_title(f"D = {focus:g}, at the first contact point, α = {alpha:g}", fontsize="small")
+    figures["fig05_spheres"] = _figure_of(ax)
 
     ax = new_axes(figsize=(9, 4))
     half = min(5.0, length / 2)
     lo = max(float(lower.x[0]), x_first - half)
     plot_first_contact(fit_l, fit_u, ax=ax, xlim=(lo, lo + 2 * half))
-    ax.set_title(
-        f"D = {focus_dimension:g}, δ_N = 0 (10 µm around the first contact)", fontsize="small"
-    )
-    written["fig08_first_contact"] = _save_axes(ax, out_dir / "fig08_first_contact")
+    ax.set_title(f"D = {focus:g}, δ_N = 0 (10 µm around the first contact)", fontsize="small")
+    figures["fig08_first_contact"] = _figure_of(ax)
 
-    steps = int(sim.get("steps", 1000))
+    steps = int(sim.pop("steps", 1000))
     step = max(1, steps // 4)
-    result = simulate(lower, upper, record_contacts=[step], **sim)
+    if final_displacement is None:
+        factor = float(sim.pop("final_displacement_factor", 0.2))
+        final = sim.pop("final_displacement", None)
+        final_displacement = float(final) if final is not None else factor * float(np.ptp(lower.z))
+    sim.pop("final_displacement", None)
+    sim.pop("final_displacement_factor", None)
+    # the same increments as the full run, stopped at the step drawn
+    result = simulate(
+        lower,
+        upper,
+        steps=step,
+        final_displacement=float(final_displacement) * step / steps,
+        record_contacts=[step],
+        **sim,
+    )
     record = result.contacts[0]
     ax = new_axes(figsize=(8, 5.2))
     plot_contact_zoom(fit_l, fit_u, record, float(result.curves["displacement"][step]), ax=ax)
-    written["fig09_contact_zoom"] = _save_axes(ax, out_dir / "fig09_contact_zoom")
-    return written, hurst
+    figures["fig09_contact_zoom"] = _figure_of(ax)
+    return figures, hurst
 
 
-def _save_axes(ax: Axes, stem: Path) -> list[Path]:
-    fig = ax.figure
-    assert isinstance(fig, Figure)
-    return save_figure(fig, stem)
+def make_illustrative_figures(
+    out_dir: str | Path | OutputFolder,
+    *,
+    dimensions: Sequence[float] = (1.0, 1.2, 1.4, 1.6, 1.8, 1.9),
+    params: Mapping[str, Any] | None = None,
+    seed: int = 2015,
+    alphas: Sequence[float] = (1.0, 2.0, 3.0),
+    focus_dimension: float = 1.4,
+    overwrite: bool = False,
+) -> tuple[dict[str, list[Path]], dict[float, float]]:
+    """Figs. 3a, 4, 5, 8 and 9 written as PNG and SVG (see :func:`illustrative_figures`).
+
+    Returns
+    -------
+    (dict, dict)
+        Written files per figure, and D → measured Hurst exponent (PSD slope) of the Fig. 3a
+        profiles.
+    """
+    figures, hurst = illustrative_figures(
+        dimensions=dimensions,
+        params=params,
+        seed=seed,
+        alphas=alphas,
+        focus_dimension=focus_dimension,
+    )
+    return write_figures(figures, out_dir, overwrite=overwrite), hurst
 
 
-def make_figures(
+def _render(fig: Figure, path: Path, fmt: str, dpi: int) -> None:
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "splinecontact"}):
+        fig.savefig(path, dpi=dpi, format=fmt)
+
+
+def write_figures(
+    figures: Mapping[str, Figure],
+    out: str | Path | OutputFolder,
+    *,
+    prefix: str = "",
+    overwrite: bool = False,
+    command: str = "plot",
+    formats: Sequence[str] = ("png", "svg"),
+    dpi: int = 150,
+) -> dict[str, list[Path]]:
+    """Write each figure as ``NAME.png`` and ``NAME.svg``, under the package's output rule.
+
+    Parameters
+    ----------
+    figures : mapping of str to Figure
+        Name → figure.
+    out : path or OutputFolder
+        A folder path (prepared with :func:`splinecontact.outputs.prepare_output_folder`: a
+        non-empty folder is refused unless splinecontact wrote it and ``overwrite`` is given),
+        or an already prepared :class:`~splinecontact.outputs.OutputFolder`.
+    prefix : str
+        Sub-folder of ``out`` for the files (e.g. ``"figures/"``).
+    overwrite : bool
+        Whether a folder splinecontact wrote earlier may be reused.
+    command : str
+        Command recorded in the folder's marker.
+    formats : sequence of str
+        File formats.
+    dpi : int
+        Resolution of raster formats [dots per inch].
+
+    Returns
+    -------
+    dict of str to list of Path
+        Name → written files. Every file is written to a temporary name and renamed.
+    """
+    folder = (
+        out
+        if isinstance(out, OutputFolder)
+        else prepare_output_folder(out, overwrite=overwrite, command=command)
+    )
+    written: dict[str, list[Path]] = {}
+    for name, fig in figures.items():
+        for fmt in formats:
+            folder.file(f"{prefix}{name}.{fmt}")
+        written[name] = save_figure(fig, folder.path / f"{prefix}{name}", formats=formats, dpi=dpi)
+    return written
+
+
+def build_figures(
     ds: xr.Dataset,
-    out_dir: str | Path,
     *,
     illustrative: bool = True,
     seed: int | None = None,
     kappa_options: Mapping[str, Any] | None = None,
-    hurst_profiles: int = 3,
-) -> tuple[dict[str, list[Path]], xr.Dataset | None]:
-    """Every figure of the paper from a study Dataset, as PNG and SVG in ``out_dir``.
+    hurst_profiles: int = 1,
+) -> tuple[dict[str, Figure], xr.Dataset | None, list[str]]:
+    """Every figure of the paper from a study Dataset, in memory (nothing is written).
+
+    The illustrative figures (Figs. 3a, 4, 5, 8, 9) are drawn from the study's own realization
+    0 profiles, regenerated once from the stored seed rule: one lower profile per D and the
+    upper profile at the focus D; their PSD slopes give the measured Hurst exponents of Fig. 12
+    (``hurst_profiles`` > 1 regenerates further realizations' lower profiles for a mean).
 
     Parameters
     ----------
     ds : xarray.Dataset
         Study Dataset.
-    out_dir : path
-        Output directory (created).
     illustrative : bool
-        Also make Figs. 3a, 4, 5, 8, 9 from profiles generated with the study's fixed
-        parameters (a few seconds at 10⁶ points).
+        Also draw Figs. 3a, 4, 5, 8, 9.
     seed : int, optional
-        Seed of the illustrative profiles (default: the ``study_seed`` attribute, else 2015).
+        Study seed (default: the ``study_seed`` attribute, else 2015).
     kappa_options : mapping, optional
         Keyword arguments of :func:`splinecontact.analysis.kappa` for Fig. 12.
     hurst_profiles : int
-        Lower profiles per D regenerated from the study's seeds to measure the Hurst exponent
-        drawn in Fig. 12 (:func:`splinecontact.analysis.study_hurst`); 0 to skip.
+        Lower profiles per D whose Hurst exponent is measured (0: none).
+
+    Returns
+    -------
+    (dict, xarray.Dataset or None, list of str)
+        Figures by name; the Hurst exponents (None without them); notes on what could not be
+        drawn.
+
+    Raises
+    ------
+    AnalysisError
+        The study has nothing to draw (see :func:`drawable_study`).
+    """
+    ds, notes = drawable_study(ds)
+    figures: dict[str, Figure] = {}
+    has_d = "dimension" in ds.dims
+    dims = [float(d) for d in ds["dimension"].values] if has_d else [1.0, 1.4, 1.8]
+    if seed is None:
+        seed = int(ds.attrs.get("study_seed", 2015))
+    measured: dict[float, float] | None = None
+    hurst: xr.Dataset | None = None
+    if illustrative:
+        focus = 1.4 if 1.4 in dims else dims[len(dims) // 2]
+        params = dict(ds.attrs)
+        if "alpha" in ds.dims:
+            params["alpha"] = float(ds["alpha"].values[0])
+        final = None
+        if has_d and "final_displacement" in ds and "realization" in ds.dims:
+            sel: dict[str, Any] = {"dimension": focus}
+            pick = ds["final_displacement"].sel(sel)
+            if "contact_type" in pick.dims:
+                pick = (
+                    pick.sel(contact_type="rough-on-rough")
+                    if ("rough-on-rough" in pick["contact_type"].values)
+                    else pick.isel(contact_type=0)
+                )
+            pick = pick.isel({d: 0 for d in pick.dims})
+            value = float(pick)
+            final = value if math.isfinite(value) and value > 0 else None
+        try:
+            fig_ill, measured_ill = illustrative_figures(
+                dimensions=dims,
+                params=params,
+                seed=int(seed),
+                focus_dimension=focus,
+                study_seed=True,
+                final_displacement=final,
+            )
+        except (SplineContactError, ValueError, FloatingPointError) as exc:
+            notes.append(f"illustrative figures not drawn: {exc}")
+        else:
+            figures.update(fig_ill)
+            if has_d and hurst_profiles == 1:
+                measured = measured_ill
+                hurst = _hurst_dataset(dims, measured_ill)
+    if has_d and hurst_profiles and hurst is None:
+        hurst = analysis.study_hurst(ds, n_profiles=hurst_profiles)
+        measured = {
+            float(d): float(h)
+            for d, h in zip(
+                hurst["dimension"].values, hurst["hurst_measured_mean"].values, strict=True
+            )
+        }
+    figures.update(study_figures(ds, measured_hurst=measured, kappa_options=kappa_options))
+    return figures, hurst, notes
+
+
+def _hurst_dataset(dims: Sequence[float], measured: Mapping[float, float]) -> xr.Dataset:
+    values = xr.DataArray(
+        np.array([[measured[d]] for d in dims]),
+        dims=("dimension", "profile"),
+        coords={"dimension": list(dims)},
+        attrs={"units": "1", "long_name": "Hurst exponent from the PSD slope"},
+    )
+    out = analysis.ensemble_statistics(values, dim="profile", name="hurst_measured")
+    out["hurst_nominal"] = xr.DataArray(
+        analysis.nominal_hurst(dims),
+        dims=("dimension",),
+        attrs={"units": "1", "long_name": "H = 2 − D"},
+    )
+    return out
+
+
+def make_figures(
+    ds: xr.Dataset,
+    out_dir: str | Path | OutputFolder,
+    *,
+    illustrative: bool = True,
+    seed: int | None = None,
+    kappa_options: Mapping[str, Any] | None = None,
+    hurst_profiles: int = 1,
+    overwrite: bool = False,
+    prefix: str = "",
+) -> tuple[dict[str, list[Path]], xr.Dataset | None]:
+    """Every figure of the paper from a study Dataset, as PNG and SVG in ``out_dir``.
+
+    Every figure is drawn in memory first (:func:`build_figures`), so a study with nothing to
+    draw raises before anything is written; the files then follow the package's output rule
+    (:func:`write_figures`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Study Dataset.
+    out_dir : path or OutputFolder
+        Output folder.
+    illustrative : bool
+        Also make Figs. 3a, 4, 5, 8, 9 from the study's realization-0 profiles (regenerated
+        once from the stored seed rule).
+    seed : int, optional
+        Study seed (default: the ``study_seed`` attribute, else 2015).
+    kappa_options : mapping, optional
+        Keyword arguments of :func:`splinecontact.analysis.kappa` for Fig. 12.
+    hurst_profiles : int
+        Lower profiles per D whose Hurst exponent is measured and drawn in Fig. 12 (1: the
+        illustrative profiles, no extra generation; 0 to skip).
+    overwrite : bool
+        Whether a folder splinecontact wrote earlier may be reused.
+    prefix : str
+        Sub-folder of ``out_dir`` for the files.
 
     Returns
     -------
@@ -940,36 +1267,14 @@ def make_figures(
         Written files per figure; the Hurst exponents (None without a ``dimension`` sweep or
         with ``hurst_profiles = 0``).
     """
-    written: dict[str, list[Path]] = {}
-    has_d = "dimension" in ds.dims
-    if illustrative:
-        dims = [float(d) for d in ds["dimension"].values] if has_d else [1.0, 1.4, 1.8]
-        if seed is None:
-            seed = int(ds.attrs.get("study_seed", 2015))
-        focus = 1.4 if 1.4 in dims else dims[len(dims) // 2]
-        params = dict(ds.attrs)
-        if "alpha" in ds.dims:
-            params["alpha"] = float(ds["alpha"].values[0])
-        fig_files, _ = make_illustrative_figures(
-            out_dir, dimensions=dims, params=params, seed=int(seed), focus_dimension=focus
-        )
-        written.update(fig_files)
-    hurst = (
-        analysis.study_hurst(ds, n_profiles=hurst_profiles) if has_d and hurst_profiles else None
+    figures, hurst, _ = build_figures(
+        ds,
+        illustrative=illustrative,
+        seed=seed,
+        kappa_options=kappa_options,
+        hurst_profiles=hurst_profiles,
     )
-    measured = (
-        {
-            float(d): float(h)
-            for d, h in zip(
-                hurst["dimension"].values, hurst["hurst_measured_mean"].values, strict=True
-            )
-        }
-        if hurst is not None
-        else None
-    )
-    written.update(
-        make_study_figures(ds, out_dir, measured_hurst=measured, kappa_options=kappa_options)
-    )
+    written = write_figures(figures, out_dir, overwrite=overwrite, prefix=prefix)
     return written, hurst
 
 

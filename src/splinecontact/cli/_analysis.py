@@ -39,17 +39,26 @@ def plot(
         bool,
         typer.Option(
             "--illustrative/--no-illustrative",
-            help="Also draw Figs. 3a, 4, 5, 8, 9 from regenerated profiles.",
+            help="Also draw Figs. 3a, 4, 5, 8, 9 from the study's first profiles (regenerated).",
         ),
     ] = True,
     overwrite: Annotated[
-        bool, typer.Option("--overwrite", help="Replace what splinecontact wrote in -o before.")
+        bool,
+        typer.Option(
+            "--overwrite",
+            help="Reuse a folder splinecontact wrote before: only the files it recorded there "
+            "are replaced.",
+        ),
     ] = False,
 ) -> None:
     """Draw every figure of the paper (Figs. 3a, 4, 5, 8–12) from a study store.
 
-    Given one `simulate` result (.nc), draw its F_N–δ_N, F_T–δ_N, A_S–F_N and mean
-    separation–F_N curves instead.
+    The figures are drawn in memory first: a store with nothing to draw is refused before the
+    output folder is created. A non-empty folder is refused unless splinecontact wrote it and
+    --overwrite is given; other files in it are never touched.
+
+    Given one `simulate` or `friction` result (.nc), draw its F_N–δ_N, F_T–δ_N, A_S–F_N and
+    mean separation–F_N curves instead.
     """
     if store.suffix.lower() == ".nc" and store.is_file():
         from ._measured import plot_result
@@ -57,18 +66,22 @@ def plot(
         files = plot_result(store, out_dir, overwrite=overwrite)
         typer.echo(f"wrote {len(files)} figures to {out_dir}")
         return
-    from ..plotting import make_figures
+    from ..plotting import build_figures, write_figures
     from ..study import open_study
 
     if rsq_method not in ("grid", "spline"):
         raise fail(f"--rsq-method must be 'grid' or 'spline', got {rsq_method!r}")
+    if not 0.0 < fit_fraction <= 1.0:
+        raise fail(f"--fit-fraction must lie in (0, 1], got {fit_fraction!r}")
     ds = open_study(store)
-    written, _ = make_figures(
+    figures, _, notes = build_figures(
         ds,
-        out_dir,
         illustrative=illustrative,
         kappa_options={"rsq_method": rsq_method, "fit_fraction": fit_fraction},
     )
+    written = write_figures(figures, out_dir, overwrite=overwrite, command="plot")
+    for note in notes:
+        typer.echo(f"note: {note}")
     n = sum(len(v) for v in written.values())
     typer.echo(f"wrote {len(written)} figures ({n} files) to {out_dir}")
 
@@ -94,11 +107,20 @@ def reproduce(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No progress bar; only the final lines.")
     ] = False,
+    overwrite: Annotated[
+        bool,
+        typer.Option(
+            "--overwrite",
+            help="Reuse a folder splinecontact wrote for another command, and discard a study "
+            "store of another study in it.",
+        ),
+    ] = False,
 ) -> None:
     """Run the paper's study, draw every figure and write report.md checking its findings.
 
     Writes OUT/study.toml, OUT/study.zarr, OUT/figures/*.png|svg, OUT/findings.json and
-    OUT/report.md. Running the same command again continues an interrupted study.
+    OUT/report.md. Running the same command again on the same OUT continues an interrupted
+    study; any other non-empty folder is refused and left untouched.
     """
     from ..reproduce import SCALES
     from ..reproduce import reproduce as run
@@ -113,12 +135,13 @@ def reproduce(
         workers=workers,
         progress=not quiet,
         command="splinecontact " + " ".join(sys.argv[1:]) if sys.argv[1:] else "",
+        overwrite=overwrite,
     )
     for f in result.findings:
         typer.echo(f"({f.key}) {f.verdict}: {f.summary}")
     typer.echo(
-        f"report: {result.report}  (study {result.study_time:.1f} s, total "
-        f"{result.wall_time:.1f} s)"
+        f"report: {result.report}  (study {result.study_time:.1f} s, figures "
+        f"{result.figure_time:.1f} s, total {result.wall_time:.1f} s)"
     )
 
 
