@@ -127,7 +127,7 @@ def register(app: typer.Typer) -> None:
         )  # fmt: skip
         write_result(result, out, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec})
         c = result.curves
-        line = (
+        summary = (
             f"{len(c['displacement']) - 1} steps, "
             f"final δ_N {1e3 * float(c['displacement'][-1]):.4g} nm, "
             f"u_T {1e3 * float(c['tangential_displacement'][-1]):.4g} nm, "
@@ -136,10 +136,10 @@ def register(app: typer.Typer) -> None:
             f"dissipated {float(c['dissipated_work'][-1]):.4g} mN·µm/µm"
         )
         try:
-            line += (
+            summary += (
                 f", μ_s {static_friction(result).mu_s:.4g}, "
                 f"k_T {tangential_stiffness(result):.4g} GPa"
             )
         except FrictionAnalysisError:
             pass
-        typer.echo(f"{line} -> {out}")
+        typer.echo(f"{summary} -> {out}")
