@@ -36,5 +36,4 @@ def test_curves_match_stored_regression(current, dimension: float, kind: str) ->
     for name in ("normal_force", "tangential_force", "contact_area"):
         want = STORED[f"{key}/{name}"]
         scale = float(np.max(np.abs(want)))
-        assert scale > 0
         np.testing.assert_allclose(current[f"{key}/{name}"], want, rtol=1e-10, atol=1e-10 * scale)

@@ -108,6 +108,7 @@ FIGURES = [
 ]
 
 
+@pytest.mark.slow
 def test_reproduce_tiny_writes_every_promised_file(tmp_path: Path) -> None:
     out = tmp_path / "run"
     result = CliRunner().invoke(

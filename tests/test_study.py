@@ -183,12 +183,14 @@ def test_paired_design_same_lower_profile_across_contact_types(reference: Path) 
     assert len(set(ds["rq_lower"].values[0, 0])) == 3
 
 
+@pytest.mark.slow
 def test_two_workers_and_batch_sizes_give_identical_store(reference: Path, tmp_path: Path) -> None:
     out = tmp_path / "two.zarr"
     run_study(TINY, out, workers=2, batch_size=2, progress=False)
     assert_identical_stores(reference, out)
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_identical_store(reference: Path, tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(
@@ -206,6 +208,7 @@ def test_dask_local_cluster_gives_identical_store(reference: Path, tmp_path: Pat
     assert_identical_stores(reference, out)
 
 
+@pytest.mark.slow
 def test_failing_realization_is_recorded_and_study_completes(tmp_path: Path) -> None:
     out = tmp_path / "fail.zarr"
     summary = run_study(
@@ -273,6 +276,7 @@ def test_a_store_being_written_is_locked(reference: Path, tmp_path: Path) -> Non
         run_study(TINY, out, workers=1, progress=False)
 
 
+@pytest.mark.slow
 def test_partial_store_resumes_to_identical_result(reference: Path, tmp_path: Path) -> None:
     """Simulate an interruption: forget some batches (status 0) and leave stale temp files."""
     import shutil
@@ -320,6 +324,7 @@ def _done(store: Path) -> int:
         return 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("workers", [1, 2])
 def test_sigkill_midway_then_resume_equals_uninterrupted_run(tmp_path: Path, workers: int) -> None:
     """kill -9 of the main process (alone, or with its pool), then resume with another count."""
@@ -367,6 +372,7 @@ def die_once(parameters: Mapping[str, Any], seed: np.random.SeedSequence) -> Any
     return simulate_realization(parameters, seed)
 
 
+@pytest.mark.slow
 def test_killed_worker_loses_nothing_and_rerun_completes(
     reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -437,6 +443,7 @@ def test_store_of_another_engine_code_is_refused(reference: Path, tmp_path: Path
         run_study(TINY, out, workers=1, progress=False)
 
 
+@pytest.mark.slow
 def test_batches_straddling_chunks_store_the_same_values(
     reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

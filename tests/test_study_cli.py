@@ -16,6 +16,9 @@ import pytest
 
 from splinecontact.study import open_study, run_study
 
+# Every test here spawns the command line (a process-level test): run with `pytest -m slow`.
+pytestmark = pytest.mark.slow
+
 CLI = str(Path(sys.executable).parent / "splinecontact")
 
 TINY = """
