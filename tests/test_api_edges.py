@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from splinecontact import (
     ParameterError,
@@ -13,6 +15,7 @@ from splinecontact import (
     ProfileRangeError,
     ProfileTypeError,
     SplineContactError,
+    fit_spline,
     simulate,
     weierstrass_mandelbrot,
     weierstrass_mandelbrot_pair,
@@ -140,14 +143,16 @@ def test_a_pair_needs_a_seed_sequence_not_a_generator() -> None:
 def test_overflowing_spline_unit_length_is_a_parameter_error(
     pair: tuple[Profile, Profile], x0: float
 ) -> None:
-    with pytest.raises(ParameterError, match="smoothing weight"):
+    with pytest.raises(ParameterError, match="x0"):
         simulate(*pair, steps=5, x0=x0)
+    with pytest.raises(ParameterError, match="smoothing weight"):
+        fit_spline(pair[0], x0=x0)
 
 
 def test_smoothing_weight_too_large_for_the_solve_is_refused(pair: tuple[Profile, Profile]) -> None:
     # λ/dx³ = (dx/x0)^α x0³ / (10 dx³) with dx ≈ 5e-4 µm, α = 0.5, x0 = 1e100 µm: about 1e257.
     with pytest.raises(ParameterError, match="straight"):
-        simulate(*pair, steps=5, alpha=0.5, x0=1e100)
+        fit_spline(pair[0], alpha=0.5, x0=1e100)
 
 
 @pytest.mark.parametrize("scale", [1e-300, 1e-310, 1e-31])
@@ -187,7 +192,7 @@ def test_simulate_with_no_upper_body_is_a_parameter_error(pair: tuple[Profile, P
 def test_overflowing_final_displacement_is_refused(
     pair: tuple[Profile, Profile], kwargs: dict
 ) -> None:
-    with pytest.raises(ParameterError, match=r"final displacement .* beyond 1e\+50 µm"):
+    with pytest.raises(ParameterError, match=r"final.displacement.*1e\+50"):
         simulate(*pair, steps=10, **kwargs)
 
 
@@ -257,3 +262,89 @@ def test_every_refusal_here_is_a_splinecontact_error() -> None:
     assert issubclass(ParameterError, SplineContactError)
     assert issubclass(ProfileRangeError, SplineContactError)
     assert issubclass(ProfileTypeError, SplineContactError)
+
+
+# --- property: any numbers give a valid result or a ParameterError, nothing else ---------------
+
+ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from(
+    [1e-320, 1e-300, 1e-50, 1e-30, 1e-10, 1e10, 1e30, 1e50, 1e100, 1e300, 1.7e308]
+)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    dimension=st.floats(0.9, 2.1) | ANY_FLOAT,
+    length=ANY_FLOAT,
+    wavelength=ANY_FLOAT,
+    gamma=st.floats(0.5, 5.0) | ANY_FLOAT,
+    ra=ANY_FLOAT,
+    n_points=st.integers(-3, 300),
+    directions=st.integers(-2, 30),
+    n_max=st.integers(-2, 3000),
+)
+def test_generator_gives_a_valid_profile_or_a_parameter_error(
+    dimension: float,
+    length: float,
+    wavelength: float,
+    gamma: float,
+    ra: float,
+    n_points: int,
+    directions: int,
+    n_max: int,
+) -> None:
+    try:
+        profile = wm(
+            dimension,
+            n_points=n_points,
+            length=length,
+            wavelength=wavelength,
+            gamma=gamma,
+            ra=ra,
+            directions=directions,
+            n_max=n_max,
+            seed=3,
+        )
+    except ParameterError:
+        return
+    assert np.isfinite(profile.z).all()
+    assert profile.ra == pytest.approx(ra, rel=1e-6)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    e_star=ANY_FLOAT,
+    g_star=ANY_FLOAT,
+    mu0=ANY_FLOAT,
+    alpha=st.floats(0.1, 4.0) | ANY_FLOAT,
+    x0=st.floats(0.01, 100.0) | ANY_FLOAT,
+    final=st.none() | ANY_FLOAT,
+)
+def test_simulate_gives_finite_curves_or_a_parameter_error(
+    small_pair: tuple[Profile, Profile],
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    final: float | None,
+) -> None:
+    try:
+        result = simulate(
+            *small_pair,
+            steps=5,
+            e_star=e_star,
+            g_star=g_star,
+            mu0=mu0,
+            alpha=alpha,
+            x0=x0,
+            final_displacement=final,
+        )
+    except ParameterError:
+        return
+    for name, values in result.curves.items():
+        assert np.isfinite(values).all(), name
+
+
+@pytest.fixture(scope="module")
+def small_pair() -> tuple[Profile, Profile]:
+    return weierstrass_mandelbrot_pair(1.5, seed=12, n_points=200, length=0.1)

@@ -15,11 +15,15 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["LENGTH_LIMIT", "check_integer", "check_real", "check_seed"]
+__all__ = ["LENGTH_LIMIT", "MAGNITUDE_LIMIT", "check_integer", "check_real", "check_seed"]
 
 #: Largest length or height accepted anywhere [µm] (10⁵⁰ µm; squares and cubes of lengths and
 #: of grid slopes then stay far from the floating-point limit of about 1.8·10³⁰⁸).
 LENGTH_LIMIT = 1e50
+
+#: Largest modulus [GPa] or friction coefficient [1] accepted (10⁵⁰): a force, modulus × length,
+#: then stays far from the floating-point limit.
+MAGNITUDE_LIMIT = 1e50
 
 
 def _unit(unit: str) -> str:

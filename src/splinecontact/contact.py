@@ -40,7 +40,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import LENGTH_LIMIT, check_integer, check_real
+from ._checks import LENGTH_LIMIT, MAGNITUDE_LIMIT, check_integer, check_real
 from .errors import GridMismatchError, ParameterError
 from .profile import UNIFORM_GRID_RTOL, Profile
 from .results import ContactRecord, SimulationResult
@@ -368,7 +368,7 @@ def _gap_slope_rms(
 
 
 def _check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
-    value = check_real(name, value, unit.strip())
+    value = check_real(name, value, unit.strip(), maximum=MAGNITUDE_LIMIT)
     if not (value >= 0 if allow_zero else value > 0):
         bound = "≥ 0" if allow_zero else "> 0"
         raise ParameterError(f"{name} = {value!r}{unit} must be finite and {bound}")
