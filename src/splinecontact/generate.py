@@ -62,8 +62,8 @@ MAX_WORK = 10_000_000_000
 #: amplitudes is rounding noise of the sum (every kept wavelength far longer than the profile).
 _MIN_RELATIVE_VARIATION = 1e-8
 
-#: Largest and smallest |log| of the scale L^(4−2D) ln γ of eq. 1 accepted (about 10^±200).
-_MAX_LOG_SCALE = 460.0
+#: Smallest length, wavelength and R_A accepted [µm] (smaller heights would be subnormal numbers).
+_MIN_LENGTH = 1e-50
 
 #: Keyword parameters of :func:`weierstrass_mandelbrot` besides ``dimension`` and ``seed``.
 GENERATOR_PARAMETERS = (
@@ -157,7 +157,7 @@ def _sum_cosines(
 
 
 def _positive_length(name: str, value: Any) -> float:
-    return check_real(name, value, "µm", minimum=0.0, exclusive_minimum=True, maximum=LENGTH_LIMIT)
+    return check_real(name, value, "µm", minimum=_MIN_LENGTH, maximum=LENGTH_LIMIT)
 
 
 def _validate(
@@ -174,7 +174,11 @@ def _validate(
     max_points: Any,
     max_work: Any,
 ) -> tuple[float, int, float, float, float, int, int, float]:
-    """Check every argument before anything is allocated; return them as float/int."""
+    """Check every argument before anything is allocated; return them as float/int.
+
+    With L in [1e−50, 1e50] µm and D in [1, 2], the scale L^(4−2D) ln γ of eq. 1 lies within
+    about 10^±116, so only γ^n_max can overflow.
+    """
     dimension = check_real("fractal dimension D", dimension)
     if not 1.0 <= dimension <= 2.0:
         raise ParameterError(
@@ -225,18 +229,11 @@ def _validate(
         )
     log_gamma = math.log(gamma)
     if n_max * log_gamma > 700.0:  # γ^n_max below ~1e304 (the float limit is 1.8e308)
-        nyquist = 0.5 / dx
-        useful = max(0, math.ceil(math.log(nyquist * wavelength) / log_gamma))
+        # Highest n with γ^n/L below the Nyquist frequency 1/(2 dx), computed in logs.
+        useful = max(0, math.ceil((math.log(0.5 / dx) + math.log(wavelength)) / log_gamma))
         raise ParameterError(
             f"gamma^n_max = {gamma!r}^{n_max} overflows; terms with γ^n/L above the Nyquist "
             f"frequency 1/(2 dx) are dropped anyway, so use n_max ≤ {useful} for this grid"
-        )
-    log_scale = (4.0 - 2.0 * dimension) * math.log(wavelength) + math.log(log_gamma)
-    if abs(log_scale) > _MAX_LOG_SCALE:
-        raise ParameterError(
-            f"the scale L^(4−2D) ln γ of eq. 1 is 10^{log_scale / math.log(10.0):.0f} for "
-            f"L = {wavelength!r} µm, D = {dimension!r}, γ = {gamma!r}: outside the floating-point "
-            "range (the heights are rescaled to R_A afterwards); choose a wavelength closer to 1 µm"
         )
     return dimension, n_points, length, wavelength, gamma, directions, n_max, ra
 
@@ -376,6 +373,12 @@ def weierstrass_mandelbrot(
             f"{length!r} µm); use a wavelength L of the order of the profile length or shorter"
         )
     z *= ra / mean_abs
+    peak = float(np.max(np.abs(z)))
+    if not peak <= LENGTH_LIMIT:
+        raise ParameterError(
+            f"ra = {ra!r} µm gives heights up to {peak:.3g} µm, beyond {LENGTH_LIMIT:g} µm where "
+            "the contact computation would overflow; give a smaller ra"
+        )
     x = np.linspace(0.0, length, n_points)
     metadata: dict[str, Any] = {
         "source": "weierstrass_mandelbrot",
