@@ -183,6 +183,7 @@ def test_paired_design_same_lower_profile_across_contact_types(reference: Path) 
     assert len(set(ds["rq_lower"].values[0, 0])) == 3
 
 
+@pytest.mark.slow
 def test_two_workers_and_batch_sizes_give_identical_store(reference: Path, tmp_path: Path) -> None:
     out = tmp_path / "two.zarr"
     run_study(TINY, out, workers=2, batch_size=2, progress=False)
@@ -207,6 +208,7 @@ def test_dask_local_cluster_gives_identical_store(reference: Path, tmp_path: Pat
     assert_identical_stores(reference, out)
 
 
+@pytest.mark.slow
 def test_failing_realization_is_recorded_and_study_completes(tmp_path: Path) -> None:
     out = tmp_path / "fail.zarr"
     summary = run_study(
@@ -274,6 +276,7 @@ def test_a_store_being_written_is_locked(reference: Path, tmp_path: Path) -> Non
         run_study(TINY, out, workers=1, progress=False)
 
 
+@pytest.mark.slow
 def test_partial_store_resumes_to_identical_result(reference: Path, tmp_path: Path) -> None:
     """Simulate an interruption: forget some batches (status 0) and leave stale temp files."""
     import shutil
@@ -440,6 +443,7 @@ def test_store_of_another_engine_code_is_refused(reference: Path, tmp_path: Path
         run_study(TINY, out, workers=1, progress=False)
 
 
+@pytest.mark.slow
 def test_batches_straddling_chunks_store_the_same_values(
     reference: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

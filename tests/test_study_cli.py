@@ -16,7 +16,7 @@ import pytest
 
 from splinecontact.study import open_study, run_study
 
-# Every test here spawns the command line in a subprocess.
+# Every test here spawns the command line (a process-level test): run with `pytest -m slow`.
 pytestmark = pytest.mark.slow
 
 CLI = str(Path(sys.executable).parent / "splinecontact")

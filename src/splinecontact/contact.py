@@ -5,7 +5,7 @@ body, given in its own frame (heights out of the body), is turned over: h^u_i(δ
 C − f^u(x_i) − δ_N, with C chosen so that the smallest gap is zero at δ_N = 0. Each body carries
 its own-frame curvature κ (positive on asperities that point toward the other body) and normal.
 With ``m = −n^u`` (the upper body's outward normal turned into the lower's frame) and the gap
-``g = h^u − h^l``, the contact of the two surface spheres at point i is (see PHYSICS.md,
+``g = h^u − h^l``, the contact of the two surface spheres at point i is (see
 ``docs/conventions.md``)
 
 * ``Y = κ^u κ^l (0, g) + κ^l m + κ^u n^l`` (Y = κ^u κ^l X, X the centre separation of eq. 7);
@@ -40,6 +40,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import LENGTH_LIMIT, MAGNITUDE_LIMIT, check_integer, check_real
 from .errors import GridMismatchError, ParameterError
 from .profile import UNIFORM_GRID_RTOL, Profile
 from .results import ContactRecord, SimulationResult
@@ -50,6 +51,8 @@ if TYPE_CHECKING:
     from .loadpath import Segment
 
 __all__ = [
+    "MAX_RECORDED_CONTACTS",
+    "MAX_STEPS",
     "SIMULATION_PARAMETERS",
     "ContactGeometry",
     "contact_geometry",
@@ -70,6 +73,13 @@ SIMULATION_PARAMETERS = (
 )
 
 _QUARTER_PI = 0.25 * math.pi
+
+#: Default ceiling on ``steps`` [1] (10⁶; the paper uses 1000). Raise it with ``max_steps=``.
+MAX_STEPS = 1_000_000
+
+#: Most contact slots ``record_contacts`` may reserve (points whose gap has closed, summed over
+#: the recorded steps) [1]: 2·10⁷ slots are 1.6 GB.
+MAX_RECORDED_CONTACTS = 20_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -361,9 +371,8 @@ def _gap_slope_rms(
 
 
 def _check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
-    value = float(value)
-    ok = math.isfinite(value) and (value >= 0 if allow_zero else value > 0)
-    if not ok:
+    value = check_real(name, value, unit.strip(), maximum=MAGNITUDE_LIMIT)
+    if not (value >= 0 if allow_zero else value > 0):
         bound = "≥ 0" if allow_zero else "> 0"
         raise ParameterError(f"{name} = {value!r}{unit} must be finite and {bound}")
     return value
@@ -414,11 +423,10 @@ def contact_geometry(
         The geometry and the surface statistics of ``SCALAR_VARIABLES`` (except
         ``final_displacement``).
     """
+    _check_bodies(lower, upper)
     flat = isinstance(upper, str)
-    if flat and upper != "flat":
-        raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'")
     if not flat:
-        assert isinstance(upper, Profile)
+        assert isinstance(upper, Profile)  # for mypy: _check_bodies has refused anything else
         if upper.n_points != lower.n_points:
             raise GridMismatchError(
                 f"the upper profile has {upper.n_points} points and the lower {lower.n_points}; "
@@ -446,6 +454,12 @@ def contact_geometry(
             )
     else:
         final = _check_positive("final_displacement", final_displacement, " µm")
+    if final > LENGTH_LIMIT:
+        raise ParameterError(
+            f"the final displacement {final!r} µm is beyond {LENGTH_LIMIT:g} µm, where the "
+            "displacement steps would overflow; give final_displacement in µm (of the order of "
+            "the profile heights)"
+        )
     displacement = final * np.arange(steps + 1) / steps
     # gap0 ≥ 0 with minimum 0 at the highest point of f^u + f^l. Only the points whose gap
     # closes by the last step are ever visited (detection z^u ≤ z^l).
@@ -598,13 +612,47 @@ def _record_steps(record_contacts: Iterable[int] | str | None, steps: int) -> ND
         raise ParameterError(
             f"record_contacts = {record_contacts!r}; give step indices, 'all' or 'last'"
         )
-    chosen = np.unique(np.asarray(list(record_contacts), dtype=np.int64))
+    if isinstance(record_contacts, np.ndarray):
+        record_contacts = record_contacts.ravel().tolist()
+    if not isinstance(record_contacts, Iterable):
+        raise ParameterError(
+            f"record_contacts = {record_contacts!r}; give a list of step indices (for example "
+            "[0, 10]), 'all' or 'last'"
+        )
+    chosen_steps: list[int] = []
+    for value in record_contacts:
+        try:
+            chosen_steps.append(check_integer("record_contacts step", value, minimum=0))
+        except ParameterError:
+            raise ParameterError(
+                f"record_contacts step {value!r} is not a step index; give integers in "
+                f"0…{steps} (the steps of this run)"
+            ) from None
+    chosen = np.unique(np.asarray(chosen_steps, dtype=np.int64))
     bad = chosen[(chosen < 0) | (chosen > steps)]
     if bad.size:
         raise ParameterError(
             f"record_contacts step {int(bad[0])} is outside 0…{steps} (the steps of this run)"
         )
     return chosen
+
+
+def _check_bodies(lower: Any, upper: Any) -> None:
+    """Refuse bodies that are not Profiles (or ``"flat"`` for the upper one)."""
+    if not isinstance(lower, Profile):
+        raise ParameterError(
+            f"lower is a {type(lower).__name__}, not a splinecontact.Profile; build one with "
+            "Profile(x, z) or read_profile(path)"
+        )
+    if isinstance(upper, str):
+        if upper != "flat":
+            hint = " (did you mean 'flat'?)" if upper.strip().lower() == "flat" else ""
+            raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'{hint}")
+    elif not isinstance(upper, Profile):
+        raise ParameterError(
+            f"upper is a {type(upper).__name__}, not a splinecontact.Profile or the string "
+            "'flat'; give the upper body's profile, or 'flat' for a rigid flat"
+        )
 
 
 def simulate(
@@ -621,6 +669,7 @@ def simulate(
     x0: float = 1.0,
     record_contacts: Iterable[int] | str | None = None,
     path: Sequence[Segment] | None = None,
+    max_steps: int = MAX_STEPS,
 ) -> SimulationResult:
     """Press two rough bodies (or a rough body and a rigid flat) together by SAD.
 
@@ -654,11 +703,16 @@ def simulate(
     x0 : float, optional
         Spline unit length x0 [µm] (eqs. 2–3; paper: 1 µm).
     record_contacts : iterable of int, "all", "last" or None, optional
-        Steps at which to keep every accepted contact (for plots such as Fig. 9).
+        Steps at which to keep every accepted contact (for plots such as Fig. 9). The points
+        whose gap has closed, summed over these steps, may not exceed
+        ``MAX_RECORDED_CONTACTS`` (2·10⁷).
     path : sequence of Segment, optional
         A load path of normal [µm] or force-controlled [mN/µm] and tangential [µm] segments
         (:class:`splinecontact.Segment`, see ``docs/friction.md``). Replaces ``steps`` and
         ``final_displacement``; without it the run is the single normal loading above.
+    max_steps : int, optional
+        Ceiling [1] on ``steps`` (default ``MAX_STEPS`` = 10⁶), checked before anything is
+        allocated.
 
     Returns
     -------
@@ -668,7 +722,10 @@ def simulate(
     Raises
     ------
     ParameterError
-        steps < 1, E* ≤ 0, G* < 0, μ0 < 0, α ≤ 0, x0 ≤ 0, final displacement ≤ 0, ...
+        A body is not a Profile (or ``"flat"``); a parameter is not a finite number of the right
+        kind (``None``, a string, ``True``, NaN, inf); steps < 1 or above ``max_steps``,
+        E* ≤ 0, G* < 0, μ0 < 0, α ≤ 0, x0 ≤ 0, final displacement ≤ 0 or beyond 10⁵⁰ µm,
+        a non-integer or out-of-range ``record_contacts`` step, too many contacts to record.
     GridMismatchError
         The two profiles do not share a grid.
 
@@ -678,9 +735,14 @@ def simulate(
         A body dominated by tilt or form, a grid too coarse for the spline, or a final contact
         area near full contact (see :mod:`splinecontact.diagnostics`).
     """
-    if isinstance(steps, bool) or int(steps) != steps or steps < 1:
-        raise ParameterError(f"steps = {steps!r} must be an integer ≥ 1 (paper: 1000)")
-    steps = int(steps)
+    _check_bodies(lower, upper)
+    max_steps = check_integer("max_steps", max_steps, minimum=1)
+    steps = check_integer(
+        "steps", steps, minimum=1, maximum=max_steps, note="paper: 1000", raise_with="max_steps"
+    )
+    if final_displacement is not None:
+        _check_positive("final_displacement", final_displacement, " µm")
+    _check_positive("final_displacement_factor", final_displacement_factor, "")
     e_star = _check_positive("e_star", e_star, " GPa")
     g_star = (
         e_star / 2.6
@@ -703,6 +765,14 @@ def simulate(
         lower, upper, steps=steps, final_displacement=final_displacement,
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
     )  # fmt: skip
+    if record_steps.size:
+        reserved = int(geometry.first_step_index[record_steps].sum())
+        if reserved > MAX_RECORDED_CONTACTS:
+            raise ParameterError(
+                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
+                f"closed, summed over {record_steps.size} recorded steps), above "
+                f"{MAX_RECORDED_CONTACTS}; record fewer steps"
+            )
     curves, contacts = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps
     )

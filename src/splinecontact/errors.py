@@ -21,8 +21,10 @@ __all__ = [
     "OutputExistsError",
     "ParameterError",
     "ProfileError",
+    "ProfileRangeError",
     "ProfileReadError",
     "ProfileShapeError",
+    "ProfileTypeError",
     "SplineContactError",
     "StudyConfigError",
     "StudyStoreError",
@@ -44,6 +46,15 @@ class ProfileError(SplineContactError, ValueError):
 
 class ProfileShapeError(ProfileError):
     """``x`` and ``z`` are not one-dimensional arrays of the same length."""
+
+
+class ProfileTypeError(ProfileError):
+    """``x`` or ``z`` is not an array of real numbers (complex, text, ``None``, objects)."""
+
+
+class ProfileRangeError(ProfileError):
+    """A grid position, grid step or height is finite but outside the range the computation can
+    represent without overflow or underflow (see ``splinecontact.profile.LENGTH_LIMIT``)."""
 
 
 class TooFewPointsError(ProfileError):

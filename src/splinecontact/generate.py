@@ -29,11 +29,14 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import LENGTH_LIMIT, check_integer, check_real, check_seed
 from .errors import ParameterError
-from .profile import Profile
+from .profile import MIN_STEP, Profile
 
 __all__ = [
     "GENERATOR_PARAMETERS",
+    "MAX_POINTS",
+    "MAX_WORK",
     "AmplitudeLaw",
     "SeedLike",
     "as_seed_sequence",
@@ -46,6 +49,23 @@ AmplitudeLaw = Literal["hurst", "as_printed"]
 SeedLike = int | np.random.SeedSequence | np.random.Generator | None
 
 _BLOCK = 2048
+
+#: Default ceiling on ``n_points`` and on the number of terms ``directions × (n_max + 1)`` [1]
+#: (2·10⁷: 160 MB per array of heights; the paper uses 10⁶ points and 420 terms). Raise it with
+#: ``max_points=``.
+MAX_POINTS = 20_000_000
+
+#: Default ceiling on ``n_points × directions × (n_max + 1)``, the multiply-adds of the sum
+#: [1] (10¹⁰, about ten times the paper's 10⁶ × 420; ~10 s of one core). Raise it with
+#: ``max_work=``.
+MAX_WORK = 10_000_000_000
+
+#: A profile whose mean |z| after removing the mean is below this fraction of the summed term
+#: amplitudes is rounding noise of the sum (every kept wavelength far longer than the profile).
+_MIN_RELATIVE_VARIATION = 1e-8
+
+#: Smallest length, wavelength and R_A accepted [µm] (smaller heights would be subnormal numbers).
+_MIN_LENGTH = 1e-50
 
 #: Keyword parameters of :func:`weierstrass_mandelbrot` besides ``dimension`` and ``seed``.
 GENERATOR_PARAMETERS = (
@@ -61,7 +81,19 @@ GENERATOR_PARAMETERS = (
 
 
 def as_seed_sequence(seed: int | np.random.SeedSequence | None) -> np.random.SeedSequence:
-    """Return ``seed`` as a :class:`numpy.random.SeedSequence` (fresh entropy for ``None``)."""
+    """Return ``seed`` as a :class:`numpy.random.SeedSequence` (fresh entropy for ``None``).
+
+    Raises
+    ------
+    ParameterError
+        ``seed`` is negative, not an integer (``1.5``, ``True``, a string) or a Generator.
+    """
+    check_seed(seed)
+    if isinstance(seed, np.random.Generator):
+        raise ParameterError(
+            "seed is a numpy.random.Generator; a seed sequence is needed here: give a "
+            "non-negative integer or a numpy.random.SeedSequence"
+        )
     if isinstance(seed, np.random.SeedSequence):
         return seed
     return np.random.SeedSequence(seed)
@@ -191,53 +223,86 @@ def _mean_of_cosines(
     return float(np.sum((coeff * phase).real * ratio))
 
 
-def _validate(
-    dimension: float,
-    n_points: int,
-    length: float,
-    wavelength: float,
-    gamma: float,
-    directions: int,
-    n_max: int,
-    ra: float,
-    amplitude_law: str,
-) -> None:
-    def finite(name: str, value: float) -> None:
-        if not math.isfinite(value):
-            raise ParameterError(f"{name} = {value!r} is not finite")
+def _positive_length(name: str, value: Any) -> float:
+    return check_real(name, value, "µm", minimum=_MIN_LENGTH, maximum=LENGTH_LIMIT)
 
-    for name, value in (
-        ("dimension", dimension),
-        ("length", length),
-        ("wavelength", wavelength),
-        ("gamma", gamma),
-        ("ra", ra),
-    ):
-        finite(name, value)
+
+def _validate(
+    dimension: Any,
+    n_points: Any,
+    length: Any,
+    wavelength: Any,
+    gamma: Any,
+    directions: Any,
+    n_max: Any,
+    ra: Any,
+    amplitude_law: Any,
+    seed: Any,
+    max_points: Any,
+    max_work: Any,
+) -> tuple[float, int, float, float, float, int, int, float]:
+    """Check every argument before anything is allocated; return them as float/int.
+
+    With L in [1e−50, 1e50] µm and D in [1, 2], the scale L^(4−2D) ln γ of eq. 1 lies within
+    about 10^±116, so only γ^n_max can overflow.
+    """
+    dimension = check_real("fractal dimension D", dimension)
     if not 1.0 <= dimension <= 2.0:
         raise ParameterError(
             f"fractal dimension D = {dimension!r} is outside [1, 2] (profiles of a 3D surface "
             "of dimension D + 1)"
         )
-    if int(n_points) != n_points or n_points < 5:
-        raise ParameterError(f"n_points = {n_points!r} must be an integer ≥ 5")
-    if length <= 0:
-        raise ParameterError(f"length = {length!r} µm must be > 0")
-    if wavelength <= 0:
-        raise ParameterError(f"wavelength L = {wavelength!r} µm must be > 0")
-    if gamma <= 1:
-        raise ParameterError(f"gamma = {gamma!r} must be > 1 (frequency density of eq. 1)")
-    if int(directions) != directions or directions < 1:
-        raise ParameterError(f"directions M = {directions!r} must be an integer ≥ 1")
-    if int(n_max) != n_max or n_max < 0:
-        raise ParameterError(f"n_max = {n_max!r} must be an integer ≥ 0")
-    if ra <= 0:
-        raise ParameterError(f"ra = {ra!r} µm must be > 0")
-    if amplitude_law not in ("hurst", "as_printed"):
+    max_points = check_integer("max_points", max_points, minimum=5)
+    max_work = check_integer("max_work", max_work, minimum=5)
+    n_points = check_integer(
+        "n_points",
+        n_points,
+        minimum=5,
+        maximum=max_points,
+        note="the paper uses 10⁶",
+        raise_with="max_points",
+    )
+    length = _positive_length("length", length)
+    wavelength = _positive_length("wavelength L", wavelength)
+    gamma = check_real(
+        "gamma", gamma, minimum=1.0, exclusive_minimum=True, note="frequency density of eq. 1"
+    )
+    directions = check_integer("directions M", directions, minimum=1)
+    n_max = check_integer("n_max", n_max, minimum=0)
+    ra = _positive_length("ra", ra)
+    if not isinstance(amplitude_law, str) or amplitude_law not in ("hurst", "as_printed"):
         raise ParameterError(
             f"amplitude_law = {amplitude_law!r}; use 'hurst' (a_n = γ^(n(D−2)), H = 2 − D) or "
             "'as_printed' (a_n = γ^(2n(D−2)), the paper's printed eq. 1)"
         )
+    check_seed(seed)
+    dx = length / (n_points - 1)
+    if dx < MIN_STEP:
+        raise ParameterError(
+            f"the grid step length/(n_points − 1) = {dx!r} µm is below {MIN_STEP:g} µm; "
+            "use fewer points or a longer profile"
+        )
+    terms = directions * (n_max + 1)
+    if terms > max_points:
+        raise ParameterError(
+            f"directions × (n_max + 1) = {terms} terms is above the ceiling {max_points} "
+            "(the paper uses 20 × 21 = 420); use fewer, or pass max_points= to allow more"
+        )
+    if n_points * terms > max_work:
+        raise ParameterError(
+            f"n_points × directions × (n_max + 1) = {n_points} × {terms} = {n_points * terms:.3g} "
+            f"multiply-adds is above the ceiling max_work = {max_work:.3g}; use fewer points or "
+            "terms, or pass max_work= to allow more"
+        )
+    log_gamma = math.log(gamma)
+    if n_max * log_gamma > 700.0:  # γ^n_max below ~1e304 (the float limit is 1.8e308)
+        # Highest n with γ^n/L below the Nyquist frequency 1/(2 dx), computed in logs.
+        useful = max(0, math.ceil((math.log(0.5 / dx) + math.log(wavelength)) / log_gamma))
+        raise ParameterError(
+            f"gamma^n_max = {gamma!r}^{n_max} overflows; terms with γ^n/L above the Nyquist "
+            f"frequency 1/(2 dx) are dropped anyway, so use n_max ≤ {useful} for this grid"
+        )
+    return dimension, n_points, length, wavelength, gamma, directions, n_max, ra
 
 
 def weierstrass_mandelbrot(
@@ -252,6 +317,8 @@ def weierstrass_mandelbrot(
     ra: float = 0.005,
     amplitude_law: AmplitudeLaw = "hurst",
     seed: SeedLike = None,
+    max_points: int = MAX_POINTS,
+    max_work: int = MAX_WORK,
 ) -> Profile:
     """Generate a random Weierstrass–Mandelbrot profile (paper eq. 1).
 
@@ -278,7 +345,13 @@ def weierstrass_mandelbrot(
         with the paper's Fig. 12). ``"as_printed"``: a_n = γ^(2n(D−2)) as printed in eq. 1.
     seed : int, SeedSequence, Generator or None, optional
         Source of the random phases φ_{m,n} ~ U(0, 2π). The same seed gives a bit-identical
-        profile.
+        profile. An integer seed must be ≥ 0.
+    max_points : int, optional
+        Ceiling [1] on ``n_points`` and on the number of terms ``directions × (n_max + 1)``
+        (default ``MAX_POINTS`` = 2·10⁷), checked before anything is allocated.
+    max_work : int, optional
+        Ceiling [1] on ``n_points × directions × (n_max + 1)`` (default ``MAX_WORK`` = 10¹⁰),
+        checked before anything is allocated.
 
     Returns
     -------
@@ -289,9 +362,15 @@ def weierstrass_mandelbrot(
     Raises
     ------
     ParameterError
-        A parameter is out of range (D ∉ [1, 2], n_points < 5, length ≤ 0, γ ≤ 1, ...).
+        A parameter is not a finite number of the right kind or is out of range (D ∉ [1, 2],
+        n_points < 5, length ≤ 0, γ ≤ 1, a negative seed, ...), a ceiling is exceeded, or the
+        parameters would overflow (γ^n_max, the scale L^(4−2D)) or give a profile below the
+        rounding error of the sum.
     """
-    _validate(dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law)
+    dimension, n_points, length, wavelength, gamma, directions, n_max, ra = _validate(
+        dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law,
+        seed, max_points, max_work,
+    )  # fmt: skip
     return _generate(
         dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law, seed
     )
@@ -379,12 +458,24 @@ def _generate(
     else:
         z[:] = 0.0
         residual_mean = mean_abs = 0.0
-    if mean_abs == 0.0:
+    if omega.size == 0:
         raise ParameterError(
             "every term of eq. 1 lies above the Nyquist frequency of this grid; "
             f"use more points than {n_points} or a longer wavelength than {wavelength} µm"
         )
+    if not mean_abs > _MIN_RELATIVE_VARIATION * prefactor * float(np.abs(coeff).sum()):
+        raise ParameterError(
+            f"the profile varies by less than the rounding error of eq. 1's sum: every kept "
+            f"wavelength is much longer than the profile (L = {wavelength!r} µm, length = "
+            f"{length!r} µm); use a wavelength L of the order of the profile length or shorter"
+        )
     _shift_scale(z, residual_mean, ra / mean_abs)
+    peak = max(float(z.max()), -float(z.min()))
+    if not peak <= LENGTH_LIMIT:
+        raise ParameterError(
+            f"ra = {ra!r} µm gives heights up to {peak:.3g} µm, beyond {LENGTH_LIMIT:g} µm where "
+            "the contact computation would overflow; give a smaller ra"
+        )
     if x is None:
         x = np.linspace(0.0, length, n_points)
         x.setflags(write=False)
@@ -436,6 +527,11 @@ def weierstrass_mandelbrot_pair(
     (lower, upper) : tuple of Profile
         Both with heights pointing out of their own body, as a profilometer records them.
     """
+    if isinstance(seed, np.random.Generator):
+        raise ParameterError(
+            "a pair needs a seed sequence, not a numpy.random.Generator: give a non-negative "
+            "integer, a numpy.random.SeedSequence or None"
+        )
     parent = as_seed_sequence(seed)
     lower = weierstrass_mandelbrot(dimension, seed=child_seed(parent, 0), **kwargs)
     # same (already validated) parameters: the upper profile shares the lower one's grid array

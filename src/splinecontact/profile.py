@@ -14,25 +14,51 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._checks import LENGTH_LIMIT
 from .errors import (
     GridNotIncreasingError,
     GridNotUniformError,
     NonFiniteValueError,
+    ProfileRangeError,
     ProfileShapeError,
+    ProfileTypeError,
     TooFewPointsError,
 )
 
-__all__ = ["MIN_POINTS", "UNIFORM_GRID_RTOL", "Profile"]
+__all__ = ["LENGTH_LIMIT", "MIN_POINTS", "MIN_STEP", "UNIFORM_GRID_RTOL", "Profile"]
 
 #: Fewest points a profile may have (the spline of eqs. 2–3 needs a few interior knots).
 MIN_POINTS = 5
+
+#: Smallest grid step accepted [µm] (10⁻³⁰ µm; the spline needs dx³, which must stay a normal
+#: floating-point number).
+MIN_STEP = 1e-30
 
 #: Largest allowed deviation of any grid step from the mean step, relative to the mean step.
 UNIFORM_GRID_RTOL = 1e-6
 
 
 def _as_float_vector(values: ArrayLike, name: str) -> NDArray[np.float64]:
-    array = np.array(values, dtype=np.float64, copy=True)
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError) as exc:
+        raise ProfileShapeError(
+            f"{name} cannot be read as an array ({exc}); pass a one-dimensional array of numbers"
+        ) from None
+    if raw.dtype.kind == "c":
+        raise ProfileTypeError(
+            f"{name} holds complex numbers (dtype {raw.dtype}); positions and heights must be "
+            f"real: pass {name}.real (or the modulus) explicitly"
+        )
+    if raw.dtype.kind not in "biuf":
+        try:
+            raw = raw.astype(np.float64)
+        except (TypeError, ValueError) as exc:
+            raise ProfileTypeError(
+                f"{name} is not an array of real numbers (dtype {raw.dtype}: {exc}); "
+                "pass numbers in µm"
+            ) from None
+    array = np.array(raw, dtype=np.float64, copy=True)
     if array.ndim != 1:
         raise ProfileShapeError(
             f"{name} must be a one-dimensional array, got shape {array.shape}; "
@@ -63,8 +89,14 @@ class Profile:
         ``x`` or ``z`` is not one-dimensional, or their lengths differ.
     TooFewPointsError
         Fewer than ``MIN_POINTS`` (5) points.
+    ProfileTypeError
+        ``x`` or ``z`` holds complex numbers or values that are not numbers, or ``metadata`` is
+        not a mapping.
     NonFiniteValueError
         A value of ``x`` or ``z`` is NaN or infinite (the message names the first index).
+    ProfileRangeError
+        A value of ``x`` or ``z`` is beyond ±``LENGTH_LIMIT`` (10⁵⁰ µm), or the grid step is
+        below ``MIN_STEP`` (10⁻³⁰ µm): the computation would overflow or underflow.
     GridNotIncreasingError
         ``x`` is not strictly increasing (the message names the first offending index).
     GridNotUniformError
@@ -100,6 +132,14 @@ class Profile:
                     f"{name}[{i}] = {float(arr[i])!r} is not finite ({bad.size} non-finite "
                     f"value(s) in {name}); remove or fill undefined points first"
                 )
+        for name, arr in (("x", x_arr), ("z", z_arr)):
+            big = np.flatnonzero(np.abs(arr) > LENGTH_LIMIT)
+            if big.size:
+                i = int(big[0])
+                raise ProfileRangeError(
+                    f"{name}[{i}] = {float(arr[i])!r} µm is beyond ±{LENGTH_LIMIT:g} µm, where "
+                    "the contact computation would overflow; check the unit (lengths are in µm)"
+                )
         steps = np.diff(x_arr)
         bad = np.flatnonzero(steps <= 0.0)
         if bad.size:
@@ -110,6 +150,11 @@ class Profile:
                 "sort or deduplicate the scan first"
             )
         mean_step = (x_arr[-1] - x_arr[0]) / (x_arr.size - 1)
+        if mean_step < MIN_STEP:
+            raise ProfileRangeError(
+                f"the grid step dx = {float(mean_step)!r} µm is below {MIN_STEP:g} µm, where the "
+                "spline's dx³ underflows; check the lateral unit (lengths are in µm)"
+            )
         deviation = np.abs(steps - mean_step)
         worst = int(np.argmax(deviation))
         if deviation[worst] > UNIFORM_GRID_RTOL * mean_step:
@@ -121,6 +166,10 @@ class Profile:
             )
         object.__setattr__(self, "x", x_arr)
         object.__setattr__(self, "z", z_arr)
+        if metadata is not None and not isinstance(metadata, Mapping):
+            raise ProfileTypeError(
+                f"metadata = {metadata!r} is not a mapping; pass a dict (or nothing)"
+            )
         object.__setattr__(self, "metadata", dict(metadata) if metadata is not None else {})
 
     @classmethod

@@ -134,6 +134,9 @@ class ContactRecord:
     normal_z: NDArray[np.float64]
     slipping: NDArray[np.bool_] | None = None
 
+    def __repr__(self) -> str:
+        return f"ContactRecord(step={self.step}, n_contacts={np.size(self.point)})"
+
 
 def jsonable(value: Any) -> Any:
     """``value`` with numpy scalars/arrays and tuples turned into JSON-serialisable types."""
@@ -189,6 +192,28 @@ class SimulationResult:
     def n_steps(self) -> int:
         """Number of displacement increments (records are ``n_steps + 1``)."""
         return int(len(self.curves["displacement"]) - 1)
+
+    def __repr__(self) -> str:
+        parameters = self.parameters
+        parts = [
+            f"{parameters.get('contact_type', '?')}",
+            f"steps={self.n_steps}",
+            f"n_points={parameters.get('n_points', '?')}",
+        ]
+        for label, name, unit in (
+            ("final_displacement", "displacement", "µm"),
+            ("normal_force[-1]", "normal_force", "mN/µm"),
+            ("contact_area[-1]", "contact_area", "µm"),
+            ("n_contacts[-1]", "n_contacts", ""),
+        ):
+            values = np.asarray(self.curves.get(name, ()))
+            if values.size:
+                last = values[-1]
+                text = f"{int(last)}" if values.dtype.kind in "iu" else f"{float(last):.4g}"
+                parts.append(f"{label}={text}{' ' + unit if unit else ''}")
+        if self.contacts:
+            parts.append(f"recorded_steps={len(self.contacts)}")
+        return f"SimulationResult({', '.join(parts)})"
 
     def to_xarray(self) -> xr.Dataset:
         """Return the result as an :class:`xarray.Dataset`.

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import check_real
 from .errors import ParameterError
 from .spline import SplineFit
 
@@ -54,6 +55,9 @@ class SurfaceSpheres:
     normal_x: NDArray[np.float64]
     normal_z: NDArray[np.float64]
     r_min: float
+
+    def __repr__(self) -> str:
+        return f"SurfaceSpheres(n_points={self.x.size}, r_min={self.r_min:.4g} µm)"
 
     @property
     def is_flat(self) -> NDArray[np.bool_]:
@@ -113,8 +117,13 @@ def surface_spheres(fit: SplineFit, *, r_min: float | None = None) -> SurfaceSph
     -------
     SurfaceSpheres
     """
+    if not isinstance(fit, SplineFit):
+        raise ParameterError(
+            f"fit is a {type(fit).__name__}, not a SplineFit; pass fit_spline(profile)"
+        )
     if r_min is None:
         r_min = 0.5 * fit.dx
+    r_min = check_real("r_min", r_min, "µm")
     if not r_min > 0:
         raise ParameterError(f"r_min = {r_min!r} µm must be > 0")
     curvature, normal_x, normal_z = own_frame_geometry(fit.slope, fit.second_derivative, r_min)

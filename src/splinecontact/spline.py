@@ -24,8 +24,13 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import check_real
 from .errors import ParameterError
 from .profile import Profile
+
+#: Largest smoothing weight in grid units λ/dx³ accepted [1]: far beyond it the spline is a
+#: straight line to working precision and the banded solve would overflow.
+_MAX_GRID_LAMBDA = 1e250
 
 __all__ = ["SplineFit", "fit_spline", "smoothing_parameter"]
 
@@ -65,6 +70,12 @@ class SplineFit:
         """Grid spacing [µm]."""
         return float((self.x[-1] - self.x[0]) / (self.x.size - 1))
 
+    def __repr__(self) -> str:
+        return (
+            f"SplineFit(n_points={self.x.size}, dx={self.dx:.4g} µm, lam={self.lam:.4g} µm³, "
+            f"alpha={self.alpha:g}, x0={self.x0:g} µm)"
+        )
+
     @property
     def smoothing_length(self) -> float:
         """(λ·dx)^(1/4) [µm], the spline's smoothing length.
@@ -93,13 +104,23 @@ def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> fl
     float
         λ = (1 − p)/p · x0³ with p from eq. 3, computed without forming 1 − p.
     """
-    if not (math.isfinite(alpha) and alpha > 0):
-        raise ParameterError(f"tightness exponent alpha = {alpha!r} must be > 0 (paper: 2)")
-    if not (math.isfinite(x0) and x0 > 0):
-        raise ParameterError(f"unit length x0 = {x0!r} µm must be > 0 (paper: 1 µm)")
-    if not (math.isfinite(dx) and dx > 0):
-        raise ParameterError(f"grid spacing dx = {dx!r} µm must be > 0")
-    return (dx / x0) ** alpha / 10.0 * x0**3
+    alpha = check_real(
+        "tightness exponent alpha", alpha, minimum=0.0, exclusive_minimum=True, note="paper: 2"
+    )
+    x0 = check_real(
+        "unit length x0", x0, "µm", minimum=0.0, exclusive_minimum=True, note="paper: 1 µm"
+    )
+    dx = check_real("grid spacing dx", dx, "µm", minimum=0.0, exclusive_minimum=True)
+    try:
+        lam = (dx / x0) ** alpha / 10.0 * x0**3
+    except OverflowError:
+        lam = math.inf
+    if not math.isfinite(lam):
+        raise ParameterError(
+            f"the smoothing weight λ = (dx/x0)^α/10 · x0³ overflows for dx = {dx!r} µm, "
+            f"x0 = {x0!r} µm, alpha = {alpha!r}; use x0 of the order of 1 µm and alpha near 2"
+        )
+    return lam
 
 
 _ULP2 = 2.0 * 2.220446049250313e-16
@@ -237,19 +258,32 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
     Raises
     ------
     ParameterError
-        α ≤ 0 or x0 ≤ 0.
+        ``profile`` is not a Profile; α or x0 is not a finite number > 0; λ overflows or
+        λ/dx³ exceeds 10²⁵⁰.
 
     Notes
     -----
     Equivalent to ``scipy.interpolate.make_smoothing_spline(x, z, lam=λ)`` (tested to 1e−8
     relative in f″), but O(n) in a compiled kernel instead of a Python loop.
     """
+    if not isinstance(profile, Profile):
+        raise ParameterError(
+            f"profile is a {type(profile).__name__}, not a splinecontact.Profile; build one with "
+            "Profile(x, z) (positions and heights in µm)"
+        )
     dx = profile.dx
     lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
+    lam_grid = lam / dx**3
+    if not lam_grid <= _MAX_GRID_LAMBDA:
+        raise ParameterError(
+            f"the smoothing weight in grid units λ/dx³ = {lam_grid:.3g} (λ = {lam:.3g} µm³, "
+            f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
+            "line; use x0 of the order of 1 µm and alpha near 2"
+        )
     # outputs allocated by numpy, which asks the kernel for huge pages on large arrays (fewer
     # page faults than the kernel's own allocations at 10⁷ points)
     f, slope, second = (np.empty(profile.z.size) for _ in range(3))
-    _reinsch_uniform(profile.z, lam / dx**3, dx, dx**2, f, slope, second)
+    _reinsch_uniform(profile.z, lam_grid, dx, dx**2, f, slope, second)
     for array in (f, slope, second):
         array.setflags(write=False)
     return SplineFit(
