@@ -360,6 +360,8 @@ def test_generator_in_range_gives_profiles_with_the_target_ra(
     assert abs(profile.z.mean()) <= 1e-9 * ra
 
 
+# the sample scans and random parameters can legitimately trigger simulate()'s diagnostics
+@pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     e_star=_mostly(st.floats(1e-3, 1e3)),

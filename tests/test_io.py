@@ -114,6 +114,8 @@ def test_x3p_areal_row() -> None:
     np.testing.assert_array_equal(last.z, data[649] * 1e6)
 
 
+# the sample scans and random parameters can legitimately trigger simulate()'s diagnostics
+@pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")
 @pytest.mark.parametrize(
     ("name", "kwargs"),
     [("hfm-1.hfm", {}), ("xy-4.txt", {"unit": "um"}), ("x3p-2.x3p", {"line": 0})],

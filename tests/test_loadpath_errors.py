@@ -82,6 +82,8 @@ def test_unreachable_force_is_refused() -> None:
         simulate(cup, cup, path=[Segment(normal_force=1.0, steps=2)])
 
 
+# the sample scans and random parameters can legitimately trigger simulate()'s diagnostics
+@pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")
 def test_friction_analysis_needs_a_path_and_a_tangential_segment() -> None:
     plain = simulate(_circle(), "flat", steps=4, final_displacement=1e-4)
     with pytest.raises(FrictionAnalysisError, match="no load path"):
@@ -93,6 +95,8 @@ def test_friction_analysis_needs_a_path_and_a_tangential_segment() -> None:
         dilatancy(normal_only, 0)
 
 
+# the sample scans and random parameters can legitimately trigger simulate()'s diagnostics
+@pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")
 def test_path_dataset_has_units_and_the_path(tmp_path: Path) -> None:
     lower, upper = weierstrass_mandelbrot_pair(1.5, seed=4, n_points=5_000, length=0.5)
     d = 0.1 * lower.peak_to_valley
