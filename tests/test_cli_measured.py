@@ -675,3 +675,28 @@ def test_devices_and_folders_are_not_read(tmp_path: Path, command: str) -> None:
         assert result.exit_code == 1
         lines = result.output.strip().splitlines()
         assert len(lines) == 1 and fragment in lines[0], lines
+
+
+def test_ceiling_errors_name_the_cli_options(tmp_path: Path) -> None:
+    """The library's ceilings name keywords; the command line names the options that raise them."""
+    out = tmp_path / "r.nc"
+    result = runner.invoke(
+        app,
+        ["simulate", "--lower", "generated:D=1.5,seed=1,n_points=1000", "--steps", "2000000",
+         "-o", str(out)],
+    )  # fmt: skip
+    assert result.exit_code == 1
+    assert "--max-steps" in result.output and "max_steps=" not in result.output
+    result = runner.invoke(
+        app,
+        ["simulate", "--lower", "generated:D=1.5,seed=1,n_points=30000000", "-o", str(out)],
+    )
+    assert result.exit_code == 1
+    assert "--max-points" in result.output and "max_points=" not in result.output
+    assert not out.exists()
+    result = runner.invoke(
+        app,
+        ["simulate", "--lower", "generated:D=1.5,seed=1,n_points=2000,wavelength=0.1",
+         "--steps", "20", "--max-steps", "10", "-o", str(out)],
+    )  # fmt: skip
+    assert result.exit_code == 1 and "ceiling 10" in result.output

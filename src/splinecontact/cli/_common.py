@@ -127,6 +127,22 @@ def _native_stderr_held() -> Iterator[list[bytes]]:
         spool.close()
 
 
+# The library's errors name its keyword arguments; on the command line the same ceilings are
+# raised with options.
+_CLI_HINTS = (
+    ("pass a larger max_points= to read_profile", "pass a larger --max-points"),
+    ("pass max_points= to allow more", "pass --max-points to allow more"),
+    ("raise Preprocessing.max_points", "raise it with --max-points"),
+    ("pass max_steps= to allow more", "pass --max-steps to allow more"),
+)
+
+
+def _cli_hints(text: str) -> str:
+    for api, cli in _CLI_HINTS:
+        text = text.replace(api, cli)
+    return text
+
+
 def handle_errors(func: Callable[P, T]) -> Callable[P, T]:
     """Decorate a command: expected errors become exactly one line on stderr and exit code 1.
 
@@ -148,7 +164,7 @@ def handle_errors(func: Callable[P, T]) -> Callable[P, T]:
             try:
                 result = func(*args, **kwargs)
             except SplineContactError as exc:
-                message = f"{type(exc).__name__}: {exc}"
+                message = f"{type(exc).__name__}: {_cli_hints(str(exc))}"
             except MemoryError:
                 message = (
                     "MemoryError: out of memory; use fewer points (n_points=, --crop, "
@@ -293,6 +309,16 @@ DetrendOpt = Annotated[
         "--detrend", help="Form removal: none, mean, tilt or polyN.", rich_help_panel=PANEL_PRE
     ),
 ]
+MaxPointsOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--max-points",
+        min=1,
+        help="Raise the ceiling on points per file read, resampled or generated (defaults: "
+        "10⁸ read, the resampling and generator ceilings otherwise).",
+        rich_help_panel=PANEL_READ,
+    ),
+]
 OverwriteOpt = Annotated[
     bool,
     typer.Option("--overwrite", help="Replace an existing output (never an input)."),
@@ -310,6 +336,7 @@ class ProfileReading:
     upper_preprocessing: Preprocessing
     upper_options: tuple[str, ...] = ()
     inherited: tuple[str, ...] = ()
+    max_points: int | None = None
 
 
 def profile_reading(
@@ -330,6 +357,7 @@ def profile_reading(
     upper_crop: str | None = None,
     zero_origin: bool = False,
     detrend: str = "none",
+    max_points: int | None = None,
 ) -> ProfileReading:
     """Turn the shared reading options into the reader keywords and a ``Preprocessing``.
 
@@ -378,6 +406,7 @@ def profile_reading(
             crop=window,
             zero_origin=zero_origin,
             detrend=detrend,
+            **({} if max_points is None else {"max_points": max_points}),
         )
 
     preprocessing = preprocessing_with(crop_range("--crop", crop))
@@ -392,6 +421,7 @@ def profile_reading(
         "height_unit": height_unit,
         "spacing": spacing,
         "line": line,
+        **({} if max_points is None else {"max_points": max_points}),
     }
     upper_read = {**read, "line": line if upper_line is None else upper_line}
     if upper_unit is not None:
@@ -410,7 +440,7 @@ def profile_reading(
         if own is None and read[key] is not None
     )  # fmt: skip
     return ProfileReading(
-        read, upper_read, preprocessing, upper_preprocessing, upper_options, inherited
+        read, upper_read, preprocessing, upper_preprocessing, upper_options, inherited, max_points
     )
 
 
@@ -575,10 +605,12 @@ def _draw_seed() -> int:
     return secrets.randbelow(2**32)
 
 
-def _generate(kwargs: dict[str, Any], option: str) -> Profile:
+def _generate(kwargs: dict[str, Any], option: str, max_points: int | None = None) -> Profile:
     from ..generate import weierstrass_mandelbrot
 
     try:
+        if max_points is not None:
+            return weierstrass_mandelbrot(**kwargs, max_points=max_points)
         return weierstrass_mandelbrot(**kwargs)
     except SplineContactError:
         raise
@@ -694,7 +726,7 @@ def load_bodies(
     lower_kwargs: dict[str, Any] = {}
     if lo.kind == "generated":
         lower_kwargs = resolve(lo, "--lower", upper_file)
-        lower: Profile = _generate(lower_kwargs, "--lower")
+        lower: Profile = _generate(lower_kwargs, "--lower", reading.max_points)
         lower_spec = format_generated_spec(lower_kwargs)
     else:
         assert lower_file is not None
@@ -728,7 +760,7 @@ def load_bodies(
                 f"--upper {format_generated_spec(upper_kwargs)} is the same profile as --lower "
                 "(same parameters and seed); give the upper body another seed"
             )
-        upper_body = _generate(upper_kwargs, "--upper")
+        upper_body = _generate(upper_kwargs, "--upper", reading.max_points)
         upper_spec = format_generated_spec(upper_kwargs)
     if not isinstance(upper_body, str):
         check_grids(lower, upper_body, lower_spec, upper_spec)

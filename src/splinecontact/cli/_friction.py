@@ -14,6 +14,7 @@ from ._common import (
     FormatOpt,
     HeightUnitOpt,
     LineOpt,
+    MaxPointsOpt,
     NonuniformOpt,
     OrderOpt,
     OverwriteOpt,
@@ -90,6 +91,7 @@ def register(app: typer.Typer) -> None:
         upper_crop: UpperCropOpt = None,
         zero_origin: ZeroOriginOpt = False,
         detrend: DetrendOpt = "none",
+        max_points: MaxPointsOpt = None,
     ) -> None:
         """Slide, press, unload or cycle the upper body along a load path (netCDF out).
 
@@ -109,7 +111,7 @@ def register(app: typer.Typer) -> None:
             line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
             order=order, duplicates=duplicates, nonuniform=nonuniform,
             resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
-            zero_origin=zero_origin, detrend=detrend,
+            zero_origin=zero_origin, detrend=detrend, max_points=max_points,
         )  # fmt: skip
         specs = [
             parse_body_spec(lower, option="--lower"),

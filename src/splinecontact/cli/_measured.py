@@ -22,6 +22,7 @@ from ._common import (
     FormatOpt,
     HeightUnitOpt,
     LineOpt,
+    MaxPointsOpt,
     NonuniformOpt,
     OrderOpt,
     OverwriteOpt,
@@ -155,6 +156,10 @@ def simulate_command(
         ),
     ] = "flat",
     steps: Annotated[int, typer.Option("--steps", help="Displacement increments [1].")] = 1000,
+    max_steps: Annotated[
+        int,
+        typer.Option("--max-steps", min=1, help="Raise the ceiling on --steps [1]."),
+    ] = 1_000_000,
     final_displacement: Annotated[
         float | None,
         typer.Option(
@@ -187,6 +192,7 @@ def simulate_command(
     upper_crop: UpperCropOpt = None,
     zero_origin: ZeroOriginOpt = False,
     detrend: DetrendOpt = "none",
+    max_points: MaxPointsOpt = None,
 ) -> None:
     """Press two measured (or generated) profiles together, or one against a rigid flat.
 
@@ -211,7 +217,7 @@ def simulate_command(
         line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
         order=order, duplicates=duplicates, nonuniform=nonuniform,
         resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
-        zero_origin=zero_origin, detrend=detrend,
+        zero_origin=zero_origin, detrend=detrend, max_points=max_points,
     )  # fmt: skip
     specs = [parse_body_spec(lower, option="--lower"), parse_body_spec(upper, option="--upper")]
     inputs = [s.path for s in specs if s.kind == "file"]
@@ -226,7 +232,7 @@ def simulate_command(
         warnings.simplefilter("ignore", SimulationWarning)
         result = simulate(
             bodies.lower, bodies.upper, steps=steps, final_displacement=final_displacement,
-            e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
+            e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, max_steps=max_steps,
         )  # fmt: skip
     for item in simulation_diagnostics(
         bodies.lower, bodies.upper, result.curves, alpha=alpha, x0=x0
@@ -267,6 +273,7 @@ def inspect_command(
     crop: CropOpt = None,
     zero_origin: ZeroOriginOpt = False,
     detrend: DetrendOpt = "none",
+    max_points: MaxPointsOpt = None,
 ) -> None:
     """Print size, roughness and Hurst exponent of a profile; warn about form and coarse grids.
 
@@ -287,7 +294,7 @@ def inspect_command(
         file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
         line=line, undefined=undefined, order=order, duplicates=duplicates,
         nonuniform=nonuniform, resample_spacing=resample_spacing, crop=crop,
-        zero_origin=zero_origin, detrend=detrend,
+        zero_origin=zero_origin, detrend=detrend, max_points=max_points,
     )  # fmt: skip
     if not file.is_file():
         what = (
