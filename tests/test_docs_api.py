@@ -7,6 +7,7 @@ API pages in ``docs/api`` document each name (at its home module) or link to it.
 from __future__ import annotations
 
 import importlib
+import inspect
 import re
 import sys
 from pathlib import Path
@@ -127,3 +128,48 @@ def test_the_gallery_has_each_of_the_papers_figures_3_to_12() -> None:
     names = [p.name for p in (ROOT / "examples" / "gallery").glob("plot_*.py")]
     for figure in range(3, 13):
         assert any(n.startswith(f"plot_{figure:02d}_") for n in names), f"no Fig. {figure}"
+
+
+_FLOAT_TYPES = re.compile(
+    r"(float|float or None|float \| None|array_like of float|ndarray of float|sequence of float)"
+)
+
+
+def _parameter_entries(doc: str) -> list[tuple[str, str, str]]:
+    """(name, type, description) of the Parameters and Attributes sections of a numpydoc text."""
+    lines = inspect.cleandoc(doc).splitlines()
+    entries: list[tuple[str, str, str]] = []
+    section = None
+    for i, line in enumerate(lines):
+        if i + 1 < len(lines) and set(lines[i + 1].strip()) == {"-"} and line.strip():
+            section = line.strip()
+            continue
+        if section not in ("Parameters", "Attributes") or not line or line[0] == " ":
+            continue
+        if set(line.strip()) == {"-"}:
+            continue
+        name, _, type_ = line.partition(" : ")
+        desc = []
+        for follow in lines[i + 1 :]:
+            if follow and not follow.startswith(" "):
+                break
+            desc.append(follow.strip())
+        entries.append((name.strip(), type_.strip(), " ".join(desc)))
+    return entries
+
+
+def test_every_real_valued_parameter_names_its_unit() -> None:
+    """Every float parameter or attribute of the public API states its unit in brackets
+    ([µm], [GPa], [mN/µm], or [1] when dimensionless), as the API reference promises."""
+    missing = []
+    for module in MODULES:
+        for name in public_names(module):
+            if home(module, name) != module:
+                continue
+            obj = getattr(importlib.import_module(module), name)
+            if not (inspect.isclass(obj) or inspect.isfunction(obj)) or not obj.__doc__:
+                continue
+            for param, type_, desc in _parameter_entries(obj.__doc__):
+                if _FLOAT_TYPES.fullmatch(type_.split(",")[0].strip()) and "[" not in desc + type_:
+                    missing.append(f"{module}.{name}({param})")
+    assert not missing, "float parameters without a [unit]: " + ", ".join(missing)

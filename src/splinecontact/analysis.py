@@ -325,7 +325,7 @@ def interpolate_realizations(
         Number of points of the common abscissa. It starts at the largest first value among
         the grid point's realizations (0 for δ_N and, normally, for F_N at first contact).
     end_quantile : float
-        Upper end of the abscissa per grid point, as a quantile of the end values of the grid
+        Upper end of the abscissa per grid point, as a quantile [1] of the end values of the grid
         point's successful realizations: 0 (default) is the smallest, so every realization
         covers the whole range (no extrapolation, no survivor bias); a larger value extends the
         range, and samples beyond a realization's end are NaN (left out of the statistics,
@@ -498,7 +498,7 @@ def ensemble_vs_force(
     confidence : float
         Level of the confidence interval of the mean [1].
     end_quantile : float
-        Quantile of the final loads that ends the load range (see
+        Quantile [1] of the final loads that ends the load range (see
         :func:`interpolate_realizations`).
 
     Returns
@@ -1236,9 +1236,9 @@ class TrendTest:
     counts : ndarray
         Number of realizations behind each estimate.
     rho : float
-        Spearman ρ of the group estimates with ``x`` (NaN with fewer than 3 finite groups).
+        Spearman ρ [1] of the group estimates with ``x`` (NaN with fewer than 3 finite groups).
     p_value : float
-        Exact two-sided p-value of ρ.
+        Exact two-sided p-value [1] of ρ.
     step_x : ndarray
         (n_steps, 2): the two parameter values of each adjacent pair (finite groups only).
     step_diff, step_low, step_high : ndarray

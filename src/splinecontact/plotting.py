@@ -912,16 +912,16 @@ def illustrative_figures(
     Parameters
     ----------
     dimensions : sequence of float
-        Fractal dimensions D of Fig. 3a.
+        Fractal dimensions D [1] of Fig. 3a.
     params : mapping, optional
         Generator and simulation parameters (``n_points``, ``length`` [µm], ``e_star`` [GPa],
         ``alpha``, ``steps``, ...; unknown keys are ignored).
     seed : int
         Seed of the profiles.
     alphas : sequence of float
-        Tightness exponents of Fig. 4.
+        Tightness exponents α [1] of Fig. 4.
     focus_dimension : float
-        D of the pair used in Figs. 4, 5, 8 and 9 (paper Fig. 4: D = 1.4).
+        D [1] of the pair used in Figs. 4, 5, 8 and 9 (paper Fig. 4: D = 1.4).
     study_seed : bool
         Interpret ``seed`` as a study seed: the profiles are then those of the study's
         realization 0 (lower profile of each D, and the rough-on-rough pair at

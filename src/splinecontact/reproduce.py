@@ -716,7 +716,7 @@ def evaluate_findings(
     seed : int
         Seed of the bootstrap resampling.
     tolerance : float
-        Relative tolerance of finding (e).
+        Relative tolerance [1] of finding (e).
 
     Returns
     -------
