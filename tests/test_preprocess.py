@@ -266,3 +266,20 @@ def test_coarse_grids_are_flagged_with_a_remedy() -> None:
     better = spline_resolution(0.5, x0=hfm.x0_for_limit)  # the suggested x0 reaches the limit
     assert better.curvature_bias == pytest.approx(CURVATURE_BIAS_LIMIT, rel=1e-6)
     assert spline_resolution(200.0).interpolates
+
+
+def test_explicit_resample_spacing_applies_after_grid_regularisation() -> None:
+    """xy-4.txt prints x to 1e−6 µm and is regularised; an explicit resample spacing must still
+    put it on the requested grid (to share another scan's grid), not be skipped."""
+    from pathlib import Path
+
+    from splinecontact.io import read_profile
+
+    sample = Path(__file__).parent / "data" / "xy-4.txt"
+    plain = read_profile(sample, unit="um")
+    assert [s["step"] for s in plain.metadata["preprocessing"]] == ["regularize_grid"]
+    resampled = read_profile(
+        sample, unit="um", preprocessing=Preprocessing(nonuniform="resample", resample_spacing=2e-4)
+    )
+    assert resampled.dx == pytest.approx(2e-4, rel=1e-12)
+    assert [s["step"] for s in resampled.metadata["preprocessing"]][-1] == "resample"

@@ -654,6 +654,10 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
                 }
             )
             x = fitted
+            if opts.resample_spacing is not None and opts.nonuniform == "resample":
+                # an explicit spacing asked for (e.g. to share another scan's grid)
+                x, z = _resample(x, z, opts.resample_spacing, 0.0, steps, opts.max_points)
+                rows = None
         elif opts.nonuniform == "refuse":
             steps_ = np.diff(x)
             mean_step = (x[-1] - x[0]) / (x.size - 1)
