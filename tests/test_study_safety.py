@@ -716,7 +716,10 @@ def test_two_first_runs_started_together_do_not_fail_on_each_other(tmp_path: Pat
             subprocess.Popen(args, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
             for _ in range(2)
         ]
-        results = [(p.wait(timeout=300), p.stderr.read() if p.stderr else "") for p in procs]
+        results = []
+        for p in procs:  # communicate() reads and closes the pipe (no unclosed-file warning)
+            _, err = p.communicate(timeout=300)
+            results.append((p.returncode, err or ""))
         for code, err in results:
             assert "Errno" not in err and "Traceback" not in err, (attempt, err)
             if code != 0:
