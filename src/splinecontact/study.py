@@ -23,7 +23,9 @@ batch size or the order in which batches finish.
 
 Store schema (``open_study``): dimensions = the swept parameters (named as the parameters, in
 study-file order), ``realization``, ``step``; every variable of ``STEP_VARIABLES`` on (grid…,
-realization, step) and of ``SCALAR_VARIABLES`` on (grid…, realization), float64 (NaN where not
+realization, step) (a study with a ``[[path]]`` also ``PATH_STEP_VARIABLES``: u_T, slipping
+contacts, dissipated work, held F_N; see :func:`step_variables`) and of ``SCALAR_VARIABLES`` on
+(grid…, realization), float64 (NaN where not
 run or failed); ``status`` int8 (0 not run, 1 ok, 2 failed); ``error`` (message, "" if ok);
 ``seed_spawn_key`` (realization). Attributes: every fixed parameter under its name (parameters
 left at the engine default ``None``, e.g. ``g_star``, are absent), ``study_toml``,
