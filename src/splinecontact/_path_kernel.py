@@ -70,6 +70,9 @@ def candidate_bounds(
     envelope: NDArray[np.float64],
     envelope_block: NDArray[np.float64],
     block: int,
+    f_l_super: NDArray[np.float64],
+    envelope_super: NDArray[np.float64],
+    per_super: int,
     flat: bool,
     offset_lo: int,
     offset_hi: int,
@@ -83,51 +86,82 @@ def candidate_bounds(
     For lower point i the upper spline is evaluated on the knot intervals
     k ∈ [i + offset_lo, i + offset_hi] (clipped to the upper body); the bound is f^l_i plus the
     largest interval envelope there. Only points with bound ≥ ``threshold`` (= C − δ_N) are
-    kept. Whole blocks of ``block`` points are first culled with block maxima, so the cost is
-    O(n/block) plus the points near contact.
+    kept. Super-blocks of ``per_super`` blocks, then blocks of ``block`` points, are first culled
+    with their maxima (``f_l_super``, ``envelope_super``: maxima of ``per_super`` consecutive
+    block maxima), so the cost is O(n/(block·per_super)) plus the blocks near contact.
     """
     n = f_l.size
     count = 0
     nb = f_l_block.size
+    n_super = f_l_super.size
+    span = block * per_super
     if flat:
-        for b in range(nb):
-            if f_l_block[b] + margin < threshold:
+        for sb in range(n_super):
+            if f_l_super[sb] + margin < threshold:
                 continue
-            for i in range(b * block, min(n, (b + 1) * block)):
-                v = f_l[i] + margin
+            for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
+                if f_l_block[b] + margin < threshold:
+                    continue
+                for i in range(b * block, min(n, (b + 1) * block)):
+                    v = f_l[i] + margin
+                    if v >= threshold:
+                        out_idx[count] = i
+                        out_bound[count] = v
+                        count += 1
+        return count
+    m = envelope.size
+    m_super = envelope_super.size
+    # Monotonic queue of knot intervals (decreasing envelope): the window maximum of every point
+    # of a block in O(block + window) instead of O(block × window).
+    queue = np.empty(block + max(0, offset_hi - offset_lo) + 2, dtype=np.int64)
+    for sb in range(n_super):
+        p0 = sb * span
+        p1 = min(n, p0 + span) - 1
+        s_lo = max(0, p0 + offset_lo)
+        s_hi = min(m - 1, p1 + offset_hi)
+        if s_hi < s_lo:
+            continue
+        e_super = -np.inf
+        for ks in range(s_lo // span, min(m_super - 1, s_hi // span) + 1):
+            if envelope_super[ks] > e_super:
+                e_super = envelope_super[ks]
+        if f_l_super[sb] + e_super + margin < threshold:
+            continue
+        for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
+            i0 = b * block
+            i1 = min(n, i0 + block) - 1
+            k_lo = max(0, i0 + offset_lo)
+            k_hi = min(m - 1, i1 + offset_hi)
+            if k_hi < k_lo:
+                continue
+            e_max = -np.inf
+            for kb in range(k_lo // block, k_hi // block + 1):
+                if envelope_block[kb] > e_max:
+                    e_max = envelope_block[kb]
+            if f_l_block[b] + e_max + margin < threshold:
+                continue
+            head = 0
+            tail = 0
+            nxt = k_lo  # next knot interval to enter the queue
+            for i in range(i0, i1 + 1):
+                lo = max(0, i + offset_lo)
+                hi = min(m - 1, i + offset_hi)
+                if hi < lo:
+                    continue
+                while nxt <= hi:
+                    e_new = envelope[nxt]
+                    while tail > head and envelope[queue[tail - 1]] <= e_new:
+                        tail -= 1
+                    queue[tail] = nxt
+                    tail += 1
+                    nxt += 1
+                while queue[head] < lo:
+                    head += 1
+                v = f_l[i] + envelope[queue[head]] + margin
                 if v >= threshold:
                     out_idx[count] = i
                     out_bound[count] = v
                     count += 1
-        return count
-    m = envelope.size
-    for b in range(nb):
-        i0 = b * block
-        i1 = min(n, i0 + block) - 1
-        k_lo = max(0, i0 + offset_lo)
-        k_hi = min(m - 1, i1 + offset_hi)
-        if k_hi < k_lo:
-            continue
-        e_max = -np.inf
-        for kb in range(k_lo // block, k_hi // block + 1):
-            if envelope_block[kb] > e_max:
-                e_max = envelope_block[kb]
-        if f_l_block[b] + e_max + margin < threshold:
-            continue
-        for i in range(i0, i1 + 1):
-            lo = max(0, i + offset_lo)
-            hi = min(m - 1, i + offset_hi)
-            if hi < lo:
-                continue
-            e = envelope[lo]
-            for k in range(lo + 1, hi + 1):
-                if envelope[k] > e:
-                    e = envelope[k]
-            v = f_l[i] + e + margin
-            if v >= threshold:
-                out_idx[count] = i
-                out_bound[count] = v
-                count += 1
     return count
 
 
@@ -197,10 +231,14 @@ def path_step(
                 break
             continue
         i = cand[j]
+        # The height first: the slope and curvature only where the gap has closed.
         if flat:
             h_u = 0.0
             s1 = 0.0
             s2 = 0.0
+            g = (placement - (h_u + f_l[i])) - d
+            if g > 0.0:
+                continue
         else:
             xi = i - shift
             if xi < 0.0 or xi > n_up - 1:
@@ -211,6 +249,9 @@ def path_step(
             t = xi - k
             if t == 0.0:  # on a knot: the fitted values themselves
                 h_u = f_u[k]
+                g = (placement - (h_u + f_l[i])) - d
+                if g > 0.0:
+                    continue
                 s1 = slope_u[k]
                 s2 = curv_u[k]
             else:
@@ -222,15 +263,15 @@ def path_step(
                     + t * f_u[k + 1]
                     + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
                 )
+                g = (placement - (h_u + f_l[i])) - d
+                if g > 0.0:
+                    continue
                 s1 = (
                     f_u[k + 1]
                     - f_u[k]
                     + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
                 ) * inv_dx
                 s2 = (w * g0 + t * g1) * inv_dx2
-        g = (placement - (h_u + f_l[i])) - d
-        if g > 0.0:
-            continue
         n_closed += 1
         k_l = kappa_l[i]
         norm_u = math.sqrt(1.0 + s1 * s1)
@@ -420,6 +461,9 @@ def run_steps(
     envelope: NDArray[np.float64],
     envelope_block: NDArray[np.float64],
     block: int,
+    f_l_super: NDArray[np.float64],
+    envelope_super: NDArray[np.float64],
+    per_super: int,
     margin: float,
     buf_idx: NDArray[np.int64],
     buf_bound: NDArray[np.float64],
@@ -480,8 +524,8 @@ def run_steps(
             u_hi = max(u_s, u_e, u_cur)
             d_max = max(d_s, d_e)
             count = candidate_bounds(
-                f_l, f_l_block, envelope, envelope_block, block, flat,
-                math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
+                f_l, f_l_block, envelope, envelope_block, block, f_l_super, envelope_super,
+                per_super, flat, math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
                 placement - d_max, margin, buf_idx, buf_bound,
             )  # fmt: skip
             if moving:

@@ -18,6 +18,16 @@ A study file has four sections::
     [output]                    # how to run, not what: does not change the results
     batch_size = 4              # realizations per task (default: automatic)
 
+An optional load path replaces ``steps`` and ``final_displacement`` by a sequence of segments
+(the fields of :class:`splinecontact.Segment`), one ``[[path]]`` table each::
+
+    [[path]]
+    normal = 0.002              # δ_N [µm] at the segment's end (or normal_force [mN/µm])
+    steps = 100
+    [[path]]
+    tangential = 0.5            # u_T [µm] at the segment's end
+    steps = 100
+
 Every parameter a study can fix or sweep is listed in :data:`PARAMETERS` with its type, range,
 default, unit and meaning. Unknown keys, wrong types and out-of-range values are refused with a
 :class:`~splinecontact.errors.StudyConfigError` whose one-line message names the key path and the
@@ -50,6 +60,7 @@ from .errors import StudyConfigError
 __all__ = [
     "PARAMETERS",
     "ParameterSpec",
+    "PathSegmentSpec",
     "StudyConfig",
     "StudyLimits",
     "check_limits",
@@ -176,6 +187,40 @@ class StudySection(BaseModel):
     description: str = ""
 
 
+#: Parameters a load path replaces: a study with ``[[path]]`` may neither fix nor sweep them.
+PATH_REPLACES = ("steps", "final_displacement", "final_displacement_factor")
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class PathSegmentSpec(BaseModel):
+    """One ``[[path]]`` table: the fields of :class:`splinecontact.Segment`.
+
+    ``normal`` is δ_N [µm] and ``normal_force`` F_N [mN/µm] at the segment's end (at most one),
+    ``tangential`` u_T [µm] (absent: keep the current value), ``steps`` the increments [1].
+    """
+
+    model_config = _STRICT
+
+    normal: Finite | None = None
+    normal_force: Positive | None = None
+    tangential: Finite | None = None
+    steps: Annotated[int, Field(ge=1)]
+
+    @model_validator(mode="after")
+    def _one_normal(self) -> PathSegmentSpec:
+        if self.normal is not None and self.normal_force is not None:
+            raise ValueError(
+                "give at most one of normal (δ_N [µm], displacement control) and normal_force "
+                "(F_N [mN/µm], force control)"
+            )
+        return self
+
+    def as_dict(self) -> dict[str, Any]:
+        """The fields that are given (the keyword arguments of ``Segment``)."""
+        return {k: v for k, v in self.model_dump().items() if v is not None}
+
+
 class OutputSection(BaseModel):
     """The ``[output]`` section: how to run (does not change the stored results)."""
 
@@ -197,6 +242,7 @@ class StudyConfig(BaseModel):
     fixed: FixedParameters = Field(default_factory=FixedParameters)  # type: ignore[valid-type]
     sweep: SweptParameters = Field(default_factory=SweptParameters)  # type: ignore[valid-type]
     output: OutputSection = Field(default_factory=OutputSection)
+    path: Annotated[list[PathSegmentSpec], Field(min_length=1)] | None = None
 
     _sweep_order: tuple[str, ...] = PrivateAttr(default=())
 
@@ -234,6 +280,14 @@ class StudyConfig(BaseModel):
             raise ValueError(
                 "fixed.dimension: required; give the fractal dimension in [fixed] or [sweep]"
             )
+        if self.path is not None:
+            for name in PATH_REPLACES:
+                for section in ("fixed", "sweep"):
+                    if getattr(getattr(self, section), name) is not None:
+                        raise ValueError(
+                            f"{section}.{name}: not with [[path]]; the path's segments set the "
+                            "steps and displacements, remove it"
+                        )
         self._check_frequencies()
         return self
 
@@ -291,7 +345,22 @@ class StudyConfig(BaseModel):
                 continue
             value = getattr(self.fixed, name)
             out[name] = spec.default if value is None else value
+        if self.path is not None:
+            out["steps"] = self.path_steps
+            out["final_displacement"] = out["final_displacement_factor"] = None
         return out
+
+    @property
+    def path_steps(self) -> int:
+        """Total number of steps of the load path (0 without a path)."""
+        return sum(segment.steps for segment in self.path or ())
+
+    @property
+    def path_segments(self) -> tuple[dict[str, Any], ...] | None:
+        """The load path as keyword arguments of ``Segment`` (None without a path)."""
+        if self.path is None:
+            return None
+        return tuple(segment.as_dict() for segment in self.path)
 
     def grid_indices(self) -> Iterator[tuple[int, ...]]:
         """All grid indices, last swept parameter fastest."""
@@ -302,7 +371,10 @@ class StudyConfig(BaseModel):
         params = self.fixed_parameters
         for (name, values), i in zip(self.swept, grid_index, strict=True):
             params[name] = values[i]
-        return {name: params[name] for name in PARAMETERS}
+        out = {name: params[name] for name in PARAMETERS}
+        if self.path is not None:
+            out["path"] = self.path_segments
+        return out
 
     @property
     def max_steps(self) -> int:
@@ -315,11 +387,17 @@ class StudyConfig(BaseModel):
 
     def identity(self) -> dict[str, Any]:
         """What determines the results: everything but ``[output]``, defaults filled in."""
-        return {
+        fixed = self.fixed_parameters
+        if self.path is not None:
+            fixed = {k: v for k, v in fixed.items() if k not in PATH_REPLACES}
+        ident: dict[str, Any] = {
             "study": self.study.model_dump(),
-            "fixed": {k: v for k, v in self.fixed_parameters.items() if v is not None},
+            "fixed": {k: v for k, v in fixed.items() if v is not None},
             "sweep": {name: list(values) for name, values in self.swept},
         }
+        if self.path is not None:
+            ident["path"] = [dict(segment) for segment in self.path_segments or ()]
+        return ident
 
     def to_toml(self) -> str:
         """The resolved study file: every default filled in, swept parameters in file order."""
@@ -336,6 +414,9 @@ class StudyConfig(BaseModel):
             for k, v in self.output.model_dump().items()
             if v is not None
         ]
+        for segment in ident.get("path", ()):
+            lines += ["", "[[path]]"]
+            lines += [f"{k} = {format_toml_value(v)}" for k, v in segment.items()]
         return "\n".join(lines) + "\n"
 
 
@@ -365,6 +446,7 @@ _SECTIONS: dict[str, type[BaseModel]] = {
     "fixed": FixedParameters,
     "sweep": SweptParameters,
     "output": OutputSection,
+    "path": PathSegmentSpec,
 }
 
 
@@ -416,6 +498,8 @@ def _reason(error: Mapping[str, Any]) -> str:
         return "must be a string"
     if kind == "literal_error":
         return f"must be one of {ctx.get('expected')}"
+    if kind == "list_type" and tuple(loc) == ("path",):
+        return "must be an array of tables, one [[path]] per segment"
     if kind in ("list_type",):
         return "must be a list of values, e.g. [1.2, 1.5]"
     if kind == "too_short":
@@ -424,7 +508,7 @@ def _reason(error: Mapping[str, Any]) -> str:
         return "must be a table (a [section])"
     if kind == "string_too_short":
         return "must not be empty"
-    return str(error["msg"])
+    return str(error["msg"]).removeprefix("Value error, ")
 
 
 def _format_error(error: Mapping[str, Any]) -> str:

@@ -49,8 +49,11 @@ FORCE_RTOL = 1e-9
 #: Block size [points] of the candidate culling.
 _BLOCK = 64
 
+#: Blocks per super-block of the candidate culling.
+_PER_SUPER = 16
+
 #: Tangential travel [grid spacings] served by one candidate list.
-_CHUNK_CELLS = 4
+_CHUNK_CELLS = 48
 
 
 class LoadPathError(ParameterError):
@@ -171,6 +174,8 @@ class _Geometry:
     envelope: NDArray[np.float64]
     f_l_block: NDArray[np.float64]
     envelope_block: NDArray[np.float64]
+    f_l_super: NDArray[np.float64]
+    envelope_super: NDArray[np.float64]
     flat: bool
     placement: float
     dx: float
@@ -228,8 +233,9 @@ class _Candidates:
         self.d_max = d_max
         centre = math.floor(-u / geo.dx)
         count = _k.candidate_bounds(
-            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.flat,
-            centre - 1, centre + 1, geo.placement - d_max, geo.margin,
+            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super,
+            geo.envelope_super, _PER_SUPER, geo.flat, centre - 1, centre + 1,
+            geo.placement - d_max, geo.margin,
             state.cand_idx, state.cand_bound,
         )  # fmt: skip
         self.idx = state.cand_idx[:count]
@@ -257,6 +263,8 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         placement = float((f_u + f_l).max())
         envelope = _k.interval_envelope(f_u, gamma_u)
     scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
+    f_l_block = _k.block_max(f_l, _BLOCK)
+    envelope_block = _k.block_max(envelope, _BLOCK)
     return _Geometry(
         f_l=f_l,
         kappa_l=kappa_l,
@@ -267,8 +275,10 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         slope_u=slope_u,
         curv_u=curv_u,
         envelope=envelope,
-        f_l_block=_k.block_max(f_l, _BLOCK),
-        envelope_block=_k.block_max(envelope, _BLOCK),
+        f_l_block=f_l_block,
+        envelope_block=envelope_block,
+        f_l_super=_k.block_max(f_l_block, _PER_SUPER),
+        envelope_super=_k.block_max(envelope_block, _PER_SUPER),
         flat=flat,
         placement=placement,
         dx=dx,
@@ -326,7 +336,8 @@ def _run(
         u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
         geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
         geo.curv_u, geo.flat, geo.placement, geo.dx, geo.kappa_max, geo.f_l_block,
-        geo.envelope, geo.envelope_block, _BLOCK, geo.margin, state.cand_idx, state.cand_bound,
+        geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super, geo.envelope_super, _PER_SUPER,
+        geo.margin, state.cand_idx, state.cand_bound,
         e_star, g_star, mu0,
         state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
         state.claimed, *state.scratch, table, row,

@@ -23,7 +23,9 @@ batch size or the order in which batches finish.
 
 Store schema (``open_study``): dimensions = the swept parameters (named as the parameters, in
 study-file order), ``realization``, ``step``; every variable of ``STEP_VARIABLES`` on (grid…,
-realization, step) and of ``SCALAR_VARIABLES`` on (grid…, realization), float64 (NaN where not
+realization, step) (a study with a ``[[path]]`` also ``PATH_STEP_VARIABLES``: u_T, slipping
+contacts, dissipated work, held F_N; see :func:`step_variables`) and of ``SCALAR_VARIABLES`` on
+(grid…, realization), float64 (NaN where not
 run or failed); ``status`` int8 (0 not run, 1 ok, 2 failed); ``error`` (message, "" if ok);
 ``seed_spawn_key`` (realization). Attributes: every fixed parameter under its name (parameters
 left at the engine default ``None``, e.g. ``g_star``, are absent), ``study_toml``,
@@ -72,7 +74,15 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ._version import __version__
-from .config import PARAMETERS, StudyConfig, StudyLimits, check_limits, load_study, parse_study
+from .config import (
+    PARAMETERS,
+    PATH_REPLACES,
+    StudyConfig,
+    StudyLimits,
+    check_limits,
+    load_study,
+    parse_study,
+)
 from .contact import SIMULATION_PARAMETERS
 from .errors import (
     OutputError,
@@ -83,7 +93,7 @@ from .errors import (
 )
 from .generate import GENERATOR_PARAMETERS
 from .outputs import atomic_path, check_output_file, is_protected_directory
-from .results import SCALAR_VARIABLES, STEP_VARIABLES
+from .results import PATH_STEP_VARIABLES, SCALAR_VARIABLES, STEP_VARIABLES
 
 __all__ = [
     "STATUS_FAILED",
@@ -106,6 +116,7 @@ __all__ = [
     "run_batch",
     "run_study",
     "simulate_realization",
+    "step_variables",
 ]
 
 STATUS_NOT_RUN = 0
@@ -198,7 +209,10 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     Parameters
     ----------
     parameters : mapping
-        One value for every name in :data:`splinecontact.config.PARAMETERS` (units there).
+        One value for every name in :data:`splinecontact.config.PARAMETERS` (units there), and
+        optionally ``path``: a sequence of mappings of :class:`splinecontact.Segment` keyword
+        arguments (δ_N [µm] or F_N [mN/µm], u_T [µm], steps), which replaces ``steps`` and
+        ``final_displacement``.
     seed : numpy.random.SeedSequence
         The realization's seed (:func:`realization_seed`). Rough-on-rough: passed to
         ``weierstrass_mandelbrot_pair``. Rough-on-flat: the lower profile is generated from the
@@ -217,6 +231,13 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     dimension = float(parameters["dimension"])
     gen = {k: parameters[k] for k in _GENERATOR_KEYS}
     sim = {k: parameters[k] for k in _SIMULATE_KEYS}
+    segments = parameters.get("path")
+    if segments is not None:
+        from .loadpath import Segment
+
+        for name in PATH_REPLACES:
+            sim.pop(name, None)
+        sim["path"] = [Segment(**segment) for segment in segments]
     with warnings.catch_warnings():
         # per-realization diagnostics would repeat once per realization (and from workers)
         warnings.simplefilter("ignore", SimulationWarning)
@@ -267,6 +288,15 @@ class BatchResult:
     errors: tuple[str, ...]
 
 
+def step_variables(has_path: bool) -> dict[str, tuple[str, str]]:
+    """Per-step variables stored by a study: name -> (units, description).
+
+    A study with a load path also stores :data:`~splinecontact.results.PATH_STEP_VARIABLES`
+    (u_T, slipping contacts, dissipated work, the held F_N); one without keeps the plain layout.
+    """
+    return {**STEP_VARIABLES, **PATH_STEP_VARIABLES} if has_path else dict(STEP_VARIABLES)
+
+
 def _one_line(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
@@ -279,7 +309,8 @@ def run_batch(
     func = simulate_realization if realization_function is None else realization_function
     n = task.stop - task.start
     width = task.n_step_records
-    curves = {name: np.full((n, width), np.nan) for name in STEP_VARIABLES}
+    names = step_variables(task.parameters.get("path") is not None)
+    curves = {name: np.full((n, width), np.nan) for name in names}
     scalars = {name: np.full(n, np.nan) for name in SCALAR_VARIABLES}
     status = np.full(n, STATUS_OK, dtype=np.int8)
     errors = [""] * n
@@ -288,7 +319,7 @@ def run_batch(
         try:
             result = func(task.parameters, realization_seed(task.study_seed, r))
             row_curves = {}
-            for name in STEP_VARIABLES:
+            for name in names:
                 values = np.asarray(result.curves[name], dtype=np.float64)
                 if values.shape != (expected,):
                     raise ValueError(
@@ -361,7 +392,7 @@ def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]
     real_dims = (*grid_dims, "realization")
     data_vars: dict[str, Any] = {}
     encoding: dict[str, dict[str, Any]] = {}
-    for name, (units, description) in STEP_VARIABLES.items():
+    for name, (units, description) in step_variables(config.path is not None).items():
         data = da.full((*grid_shape, R, S), np.nan, chunks=(*ones, chunk_r, S))
         data_vars[name] = (step_dims, data, {"units": units, "long_name": description})
         encoding[name] = {"_FillValue": np.nan, "chunks": (*ones, chunk_r, S)}
@@ -668,10 +699,20 @@ def _remove_partial_files(path: Path) -> None:
 
 
 _ARRAYS = (*STEP_VARIABLES, *SCALAR_VARIABLES, "error", "status")
+
+
+def _array_names(config: StudyConfig) -> tuple[str, ...]:
+    """The arrays a run of ``config`` writes."""
+    steps = step_variables(config.path is not None)
+    return (*steps, *SCALAR_VARIABLES, "error", "status")
+
+
 _STATUS_CODES = (STATUS_NOT_RUN, STATUS_OK, STATUS_FAILED)
 
 
-def _open_arrays(path: Path, mode: str) -> tuple[Any, dict[str, Any]]:
+def _open_arrays(
+    path: Path, mode: str, names: Sequence[str] = _ARRAYS
+) -> tuple[Any, dict[str, Any]]:
     """The root group and the arrays a run writes, or a StudyStoreError naming what is missing."""
     import zarr
 
@@ -682,7 +723,7 @@ def _open_arrays(path: Path, mode: str) -> tuple[Any, dict[str, Any]]:
             f"store {path} is damaged: it cannot be opened ({_one_line(exc)})"
         ) from None
     arrays: dict[str, Any] = {}
-    for name in _ARRAYS:
+    for name in names:
         try:
             arrays[name] = group[name]
         except KeyError:
@@ -715,8 +756,8 @@ def _check_status_codes(path: Path, status: NDArray[Any]) -> None:
 def _verify_store(path: Path, arrays: Mapping[str, Any], config: StudyConfig) -> None:
     """Check shapes, decode every chunk and check the status codes; name the first damage."""
     realizations = config.study.realizations
-    shapes = {name: (*config.grid_shape, realizations) for name in _ARRAYS}
-    for name in STEP_VARIABLES:
+    shapes = {name: (*config.grid_shape, realizations) for name in _array_names(config)}
+    for name in step_variables(config.path is not None):
         shapes[name] = (*config.grid_shape, realizations, config.max_steps + 1)
     for name, array in arrays.items():
         if tuple(array.shape) != shapes[name]:
@@ -743,16 +784,17 @@ def _verify_store(path: Path, arrays: Mapping[str, Any], config: StudyConfig) ->
 class _Writer:
     """Writes finished batches into the store: data, then ``error``, then ``status``."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, names: Sequence[str] = _ARRAYS) -> None:
         self.path = path
+        self.names = tuple(names)
         # Read-only until something is written: a run with nothing to do works on a read-only
         # store and changes nothing.
-        self.group, self.arrays = _open_arrays(path, "r")
+        self.group, self.arrays = _open_arrays(path, "r", self.names)
         self._writable = False
 
     def _make_writable(self) -> None:
         if not self._writable:
-            self.group, self.arrays = _open_arrays(self.path, "r+")
+            self.group, self.arrays = _open_arrays(self.path, "r+", self.names)
             self._writable = True
 
     def status(self) -> NDArray[np.int8]:
@@ -771,7 +813,7 @@ class _Writer:
         self._make_writable()
         task = result.task
         region = (*task.grid_index, slice(task.start, task.stop))
-        for name in STEP_VARIABLES:
+        for name in result.curves:
             self.arrays[name][(*region, slice(None))] = result.curves[name]
         for name in SCALAR_VARIABLES:
             self.arrays[name][region] = result.scalars[name]
@@ -1274,7 +1316,7 @@ def run_study(
         created = _prepare_store(path, config, overwrite=overwrite)
         with _locked(path):
             _remove_partial_files(path)
-            writer = _Writer(path)
+            writer = _Writer(path, _array_names(config))
             if not created:
                 _verify_store(path, writer.arrays, config)
             status = writer.status()
@@ -1355,7 +1397,8 @@ def open_study(path: str | Path) -> xr.Dataset:
     if attrs is None:
         raise StudyStoreError(f"{path} is not a splinecontact study store")
     config = _stored_config(path, attrs)
-    _open_arrays(path, "r")  # names a missing array
+    names = _array_names(config)
+    _open_arrays(path, "r", names)  # names a missing array
     try:
         ds = xr.open_zarr(path, consolidated=False)
     except Exception as exc:
@@ -1374,7 +1417,7 @@ def open_study(path: str | Path) -> xr.Dataset:
                 ) from None
         loaded = ds.load()
     expected = (*config.grid_shape, config.study.realizations)
-    for name in (*_ARRAYS, "seed_spawn_key"):
+    for name in (*names, "seed_spawn_key"):
         if name not in loaded.data_vars:
             raise StudyStoreError(f"store {path} is damaged: the variable {name!r} is missing")
     if loaded["status"].shape != expected or loaded.sizes.get("step") != config.max_steps + 1:
@@ -1388,7 +1431,13 @@ def open_study(path: str | Path) -> xr.Dataset:
         var = loaded.variables[name]
         if var.dtype.kind == "T":
             loaded[name] = var.copy(data=np.asarray(var.values, dtype=object))
-    order = [*STEP_VARIABLES, *SCALAR_VARIABLES, "status", "error", "seed_spawn_key"]
+    order = [
+        *step_variables(config.path is not None),
+        *SCALAR_VARIABLES,
+        "status",
+        "error",
+        "seed_spawn_key",
+    ]
     order += [name for name in loaded.data_vars if name not in order]
     return loaded[order]
 
