@@ -173,3 +173,19 @@ def test_every_real_valued_parameter_names_its_unit() -> None:
                 if _FLOAT_TYPES.fullmatch(type_.split(",")[0].strip()) and "[" not in desc + type_:
                     missing.append(f"{module}.{name}({param})")
     assert not missing, "float parameters without a [unit]: " + ", ".join(missing)
+
+
+def test_docs_name_only_what_the_repository_holds() -> None:
+    """No reference to design notes or trackers a reader of the repository cannot open."""
+    pattern = re.compile(r"PHYSICS\.md|STYLE\.md|\b[Ii]ssue [0-9]+|\bissue #|shared/")
+    texts = [ROOT / "README.md", ROOT / "CHANGELOG.md"]
+    texts += sorted((ROOT / "docs").glob("*.md"))
+    texts += sorted((ROOT / "src").rglob("*.py"))
+    texts += sorted((ROOT / "examples").rglob("*.py")) + sorted((ROOT / "benchmarks").rglob("*.py"))
+    found = [
+        f"{path.relative_to(ROOT)}:{number}"
+        for path in texts
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not found, "references outside the repository: " + ", ".join(found)
