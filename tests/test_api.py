@@ -160,3 +160,20 @@ def test_spline_and_spheres_refuse_wrong_inputs(pair: tuple[Profile, Profile]) -
         surface_spheres(pair[0])  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match="r_min"):
         surface_spheres(fit_spline(pair[0]), r_min="1")  # type: ignore[arg-type]
+
+
+def test_diagnostics_can_be_switched_off(pair: tuple[Profile, Profile]) -> None:
+    """simulate(diagnostics=False) skips the checks (ensembles use it) and changes nothing else."""
+    import warnings
+
+    from splinecontact.diagnostics import SimulationWarning
+
+    lower, upper = pair
+    tilted = Profile(lower.x, lower.z + 0.5 * lower.x)  # a tilt dominates: a FormWarning
+    with pytest.warns(SimulationWarning):
+        warned = simulate(tilted, upper, steps=10)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", SimulationWarning)
+        quiet = simulate(tilted, upper, steps=10, diagnostics=False)
+    for name, curve in warned.curves.items():
+        np.testing.assert_array_equal(curve, quiet.curves[name])

@@ -222,10 +222,7 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     -------
     SimulationResult
     """
-    import warnings
-
     from .contact import simulate
-    from .diagnostics import SimulationWarning
     from .generate import child_seed, weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 
     dimension = float(parameters["dimension"])
@@ -238,14 +235,13 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         for name in PATH_REPLACES:
             sim.pop(name, None)
         sim["path"] = [Segment(**segment) for segment in segments]
-    with warnings.catch_warnings():
-        # per-realization diagnostics would repeat once per realization (and from workers)
-        warnings.simplefilter("ignore", SimulationWarning)
-        if parameters["contact_type"] == "rough-on-rough":
-            lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
-            return simulate(lower, upper, **sim)
-        lower = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
-        return simulate(lower, "flat", **sim)
+    # per-realization diagnostics would repeat once per realization (and from workers)
+    sim["diagnostics"] = False
+    if parameters["contact_type"] == "rough-on-rough":
+        lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
+        return simulate(lower, upper, **sim)
+    lower = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
+    return simulate(lower, "flat", **sim)
 
 
 # --- batches ------------------------------------------------------------------------------------
