@@ -720,7 +720,8 @@ def test_two_first_runs_started_together_do_not_fail_on_each_other(tmp_path: Pat
             subprocess.Popen(args, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
             for _ in range(2)
         ]
-        results = [(p.wait(timeout=300), p.stderr.read() if p.stderr else "") for p in procs]
+        errors = [p.communicate(timeout=300)[1] for p in procs]  # closes the pipes
+        results = [(p.returncode, err) for p, err in zip(procs, errors, strict=True)]
         for code, err in results:
             assert "Errno" not in err and "Traceback" not in err, (attempt, err)
             if code != 0:
