@@ -164,3 +164,20 @@ def test_cli_fuzz_slow_budget(tmp_path: Path) -> None:
     print("\nCLI fuzz, seed 11:\n" + tally.summary())
     assert tally.broken == [], tally.summary()
     assert tally.inputs >= 1_000
+
+
+@pytest.mark.parametrize("height", ["1e300", "-1e308", "1.7e308"])
+def test_heights_near_the_float_limit_in_a_file_are_one_line(tmp_path: Path, height: str) -> None:
+    # inspect used to print R_q = inf with seven RuntimeWarnings; simulate returned zero force
+    path = tmp_path / "big.csv"
+    path.write_text(f"x [um], z [um]\n0,{height}\n1,0\n2,1\n3,0\n4,1\n5,0\n", encoding="utf-8")
+    for args in (
+        ["inspect", str(path)],
+        ["simulate", "--lower", str(path), "--upper", "flat", "-o", str(tmp_path / "r.nc")],
+    ):
+        result = runner.invoke(app, args)
+        lines = [line for line in result.output.splitlines() if line.strip()]
+        assert result.exit_code == 1, result.output
+        assert len(lines) == 1 and lines[0].startswith("error: ProfileRangeError"), result.output
+        assert "beyond ±1e+50 µm" in lines[0]
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["big.csv"]
