@@ -495,6 +495,10 @@ def test_bad_worker_and_batch_options_are_refused(tmp_path: Path, option: str, v
         {"length": float("inf")},
         {"ra": float("nan")},
         {"n_max": 2000},
+        {"ra": 1e308},
+        {"length": 1e300},
+        {"wavelength": 1e200},
+        {"final_displacement": 1e308},
     ],
 )
 def test_engine_impossible_values_are_refused_before_anything_is_written(

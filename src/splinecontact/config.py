@@ -77,6 +77,8 @@ _MAX_FREQUENCY_DECADES = 300
 #: Floats are finite: ``inf`` and ``nan`` (valid TOML) are refused, as by the API.
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+#: Lengths [µm] within the engine's range (1e50 µm, as the API checks), refused before a run.
+Length = Annotated[float, Field(gt=0.0, le=1e50, allow_inf_nan=False)]
 
 
 @dataclass(frozen=True)
@@ -117,7 +119,7 @@ PARAMETERS: dict[str, ParameterSpec] = {
         "two rough profiles, or one rough profile against a rigid flat",
     ),
     "alpha": ParameterSpec(Positive, 2.0, "1", "spline tightness exponent α (eq. 3)"),
-    "x0": ParameterSpec(Positive, 1.0, "µm", "spline unit length x0 (eqs. 2–3)"),
+    "x0": ParameterSpec(Length, 1.0, "µm", "spline unit length x0 (eqs. 2–3)"),
     "e_star": ParameterSpec(Positive, 10.0, "GPa", "effective modulus E* (eq. 10)"),
     "g_star": ParameterSpec(
         Positive | None, None, "GPa", "effective shear modulus G* (eq. 11); default E*/2.6"
@@ -125,7 +127,7 @@ PARAMETERS: dict[str, ParameterSpec] = {
     "mu0": ParameterSpec(NonNegative, 0.3, "1", "friction coefficient μ0 (eq. 13)"),
     "steps": ParameterSpec(Annotated[int, Field(ge=1)], 1000, "1", "displacement increments"),
     "final_displacement": ParameterSpec(
-        Positive | None,
+        Length | None,
         None,
         "µm",
         "final displacement δ_N; default final_displacement_factor × amplitude",
@@ -134,8 +136,8 @@ PARAMETERS: dict[str, ParameterSpec] = {
         Positive, 0.2, "1", "final displacement as a fraction of the lower profile's amplitude"
     ),
     "n_points": ParameterSpec(Annotated[int, Field(ge=8)], 1_000_000, "1", "grid points"),
-    "length": ParameterSpec(Positive, 100.0, "µm", "profile length L (eq. 1)"),
-    "wavelength": ParameterSpec(Positive, 1.0, "µm", "longest wavelength parameter (eq. 1)"),
+    "length": ParameterSpec(Length, 100.0, "µm", "profile length L (eq. 1)"),
+    "wavelength": ParameterSpec(Length, 1.0, "µm", "longest wavelength parameter (eq. 1)"),
     "gamma": ParameterSpec(
         Annotated[float, Field(gt=1.0, allow_inf_nan=False)],
         1.5,
@@ -146,7 +148,7 @@ PARAMETERS: dict[str, ParameterSpec] = {
         Annotated[int, Field(ge=1)], 20, "1", "number of ridge directions M (eq. 1)"
     ),
     "n_max": ParameterSpec(Annotated[int, Field(ge=0)], 20, "1", "highest frequency index (eq. 1)"),
-    "ra": ParameterSpec(Positive, 0.005, "µm", "mean roughness R_A the heights are scaled to"),
+    "ra": ParameterSpec(Length, 0.005, "µm", "mean roughness R_A the heights are scaled to"),
     "amplitude_law": ParameterSpec(
         Literal["hurst", "as_printed"],
         "hurst",
