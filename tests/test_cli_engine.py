@@ -74,6 +74,7 @@ def test_bad_dimension_is_one_clean_line(tmp_path: Path) -> None:
     assert not out.exists()
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_console_script_error_has_no_traceback(tmp_path: Path) -> None:
     out = tmp_path / "bad.npz"
     proc = subprocess.run(
@@ -221,6 +222,7 @@ def test_version() -> None:
     assert "Hanaor" in result.output
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_help_and_option_errors_import_no_numerical_stack() -> None:
     code = (
         "import sys\n"
@@ -242,6 +244,7 @@ def test_help_and_option_errors_import_no_numerical_stack() -> None:
     assert proc.stdout.strip() == "[]"
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_native_chatter_and_warnings_are_dropped_on_error(tmp_path: Path) -> None:
     # D18: what LAPACK/numba write on file descriptor 2 and the warnings raised before an
     # error never come before the one error line

@@ -203,6 +203,7 @@ def _console_script() -> str:
     return str(script)
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_console_script_malformed_file(tmp_path: Path) -> None:
     out = tmp_path / "out.nc"
     proc = subprocess.run(
@@ -219,6 +220,7 @@ def test_console_script_malformed_file(tmp_path: Path) -> None:
     assert not list(tmp_path.iterdir())
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_console_script_inspect(tmp_path: Path) -> None:
     proc = subprocess.run(
         [_console_script(), "inspect", str(DATA / "hfm-1.hfm")],

@@ -166,6 +166,7 @@ def test_decimate_keeps_extremes() -> None:
     assert zd.min() == pytest.approx(z.min())
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_importing_plotting_keeps_the_users_backend() -> None:
     """Importing the package's plotting module must not switch the matplotlib backend."""
     import os

@@ -634,6 +634,7 @@ def test_cli_export_follows_the_output_rule(sandbox: Path) -> None:
     )
 
 
+@pytest.mark.slow  # a process-level test (spawns Python)
 def test_export_removes_the_temporary_file_of_a_killed_export(
     store: Path, tmp_path: Path, h5py: Any
 ) -> None:
