@@ -20,6 +20,7 @@ from splinecontact import (
     weierstrass_mandelbrot,
     weierstrass_mandelbrot_pair,
 )
+from splinecontact.diagnostics import SimulationWarning
 from splinecontact.generate import MAX_POINTS, MAX_WORK, as_seed_sequence
 
 wm = weierstrass_mandelbrot
@@ -402,3 +403,16 @@ def test_simulate_gives_finite_curves_or_a_parameter_error(
 @pytest.fixture(scope="module")
 def small_pair() -> tuple[Profile, Profile]:
     return weierstrass_mandelbrot_pair(1.5, seed=12, n_points=200, length=0.1)
+
+
+def test_spline_resolution_near_alpha_three_does_not_overflow() -> None:
+    """Found by hypothesis on the dependency floors: α just below 3 made the x0 that would
+    reach the curvature limit overflow (OverflowError from simulate's diagnostics)."""
+    from splinecontact.preprocess import spline_resolution
+
+    resolution = spline_resolution(0.0005025, alpha=2.99609375, x0=1e-30)
+    assert resolution.coarse and resolution.x0_for_limit is None
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=3, n_points=200, length=0.1)
+    with pytest.warns(SimulationWarning):
+        result = simulate(lower, upper, alpha=2.99609375, x0=1e-30, mu0=1e-320, g_star=0.0)
+    assert np.all(np.isfinite(result.normal_force))

@@ -884,7 +884,10 @@ def spline_resolution(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
             else:
                 hi = mid
         ratio = hi / (2.0 * np.pi * 10.0**-0.25)
-        x0_for_limit = float(dx * ratio ** (4.0 / (3.0 - alpha)))
+        try:
+            x0_for_limit = float(dx * ratio ** (4.0 / (3.0 - alpha)))
+        except OverflowError:  # α just below 3: no representable x0 reaches the limit
+            x0_for_limit = None
     return SplineResolution(
         dx=float(dx),
         lam=float(lam),
