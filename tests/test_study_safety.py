@@ -499,6 +499,7 @@ def test_bad_worker_and_batch_options_are_refused(tmp_path: Path, option: str, v
         {"length": 1e300},
         {"wavelength": 1e200},
         {"final_displacement": 1e308},
+        {"x0": 1e-300},  # the spline weight λ of eqs. 2–3 overflows
     ],
 )
 def test_engine_impossible_values_are_refused_before_anything_is_written(
@@ -733,3 +734,20 @@ def test_two_first_runs_started_together_do_not_fail_on_each_other(tmp_path: Pat
         assert any(code == 0 for code, _ in results)
         assert [p.name for p in tmp_path.iterdir() if ".creating-" in p.name] == []
         assert (open_study(out)["status"].values != 0).all()
+
+
+def test_dask_rescheduling_log_lines_are_held_back_on_the_command_line() -> None:
+    """D18: a worker lost in a run that completes made distributed log "Couldn't gather N keys,
+    rescheduling" beside the command's own output; the study CLI holds Dask's logs below ERROR."""
+    import logging
+
+    import distributed  # noqa: F401  (sets its loggers' levels on import)
+
+    from splinecontact.cli._study import _dask_logs_quiet
+
+    logger = logging.getLogger("distributed.client")
+    assert logger.isEnabledFor(logging.WARNING)  # what a run would print without the guard
+    with _dask_logs_quiet(True):
+        assert not logger.isEnabledFor(logging.WARNING)
+        assert logger.isEnabledFor(logging.ERROR)  # errors still show
+    assert logger.isEnabledFor(logging.WARNING)  # restored afterwards

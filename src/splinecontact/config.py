@@ -291,7 +291,34 @@ class StudyConfig(BaseModel):
                             "steps and displacements, remove it"
                         )
         self._check_frequencies()
+        self._check_spline_weight()
         return self
+
+    def _check_spline_weight(self) -> None:
+        """Every grid spacing, α and x0 of the study give a usable spline weight λ (eqs. 2–3).
+
+        The same checks as :func:`splinecontact.fit_spline`, made before anything is written
+        (otherwise every realization would fail with them).
+        """
+        from .errors import ParameterError
+        from .spline import _MAX_GRID_LAMBDA, smoothing_parameter
+
+        names = ("length", "n_points", "alpha", "x0")
+        values = [sorted(set(self._values(name))) for name in names]
+        if math.prod(len(v) for v in values) > 100_000:
+            return  # the engine still checks each realization
+        for length, n_points, alpha, x0 in itertools.product(*values):
+            dx = length / (n_points - 1)
+            try:
+                lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
+            except ParameterError as exc:
+                raise ValueError(f"x0 = {x0!r} with alpha = {alpha!r}: {exc}") from None
+            if not lam / dx**3 <= _MAX_GRID_LAMBDA:
+                raise ValueError(
+                    f"x0 = {x0!r} with alpha = {alpha!r} and grid spacing {dx:.3g} µm: the "
+                    f"spline weight λ/dx³ = {lam / dx**3:.3g} makes the spline a straight line; "
+                    "use x0 of the order of 1 µm and alpha near 2"
+                )
 
     def _check_frequencies(self) -> None:
         """γ^n_max (the highest frequency of eq. 1, relative to the lowest) must be a float."""

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
 
@@ -16,6 +18,39 @@ study_app = typer.Typer(
     help="Ensembles over parameters × realizations (parallel, resumable, on Dask).",
     no_args_is_help=True,
 )
+
+
+@contextlib.contextmanager
+def _dask_logs_quiet(active: bool = True) -> Iterator[None]:
+    """Hold Dask's own log lines below ERROR while a study runs on the command line.
+
+    A worker lost during a run that then completes makes ``distributed`` log "Couldn't gather N
+    keys, rescheduling": the run's progress and summary (and the store) already say everything
+    the user needs, and the command promises no other line. Errors still show.
+    """
+    import logging
+
+    if not active:
+        yield
+        return
+    import distributed  # noqa: F401  (configures its loggers on import: set ours after it)
+
+    # distributed gives several of its loggers their own level and handler (no propagation),
+    # so each one is held back, not only the parents
+    names = [
+        name
+        for name in list(logging.root.manager.loggerDict)
+        if name.split(".")[0] in ("distributed", "dask")
+    ]
+    loggers = [logging.getLogger(name) for name in sorted({"distributed", "dask", *names})]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(max(logger.getEffectiveLevel(), logging.ERROR))
+    try:
+        yield
+    finally:
+        for logger, level in zip(loggers, levels, strict=True):
+            logger.setLevel(level)
 
 
 @study_app.command("run")
@@ -66,8 +101,6 @@ def run(
     Exit status: 0 when every realization has run (failed realizations are results, listed
     in the summary and recorded in the store), 1 on an error, 130 when interrupted.
     """
-    import contextlib
-
     from ..config import StudyLimits
     from ..study import StudyExecutionError, StudyProgressBar, print_summary, run_study
 
@@ -79,7 +112,10 @@ def run(
     limits = StudyLimits.parse(limit or [])
     bar = None if quiet else StudyProgressBar()
     try:
-        with bar if bar is not None else contextlib.nullcontext():
+        with (
+            _dask_logs_quiet(scheduler is not None),
+            bar if bar is not None else contextlib.nullcontext(),
+        ):
             summary = run_study(
                 study_file,
                 out,
