@@ -497,6 +497,7 @@ def test_simulate_never_writes_over_inputs_or_existing_files(tmp_path: Path) -> 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old.nc", "small.csv"]
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_plot_one_result(tmp_path: Path) -> None:
     result_file = tmp_path / "r.nc"
     made = runner.invoke(

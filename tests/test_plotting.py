@@ -89,6 +89,7 @@ def test_kappa_hurst_reference_lines(study: xr.Dataset) -> None:
     assert "Persson" in texts and "Bush" in texts and "rough-on-flat" in texts
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_make_study_figures_writes_png_and_svg(study: xr.Dataset, tmp_path: Path) -> None:
     written = plotting.make_study_figures(study, tmp_path)
     expected = {
@@ -135,6 +136,7 @@ def test_profile_figures_draw(tmp_path: Path) -> None:
     assert plotting.plot_first_contact(fit_l, None, ax=ax) is ax
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_illustrative_figures_small(tmp_path: Path) -> None:
     written, hurst = plotting.make_illustrative_figures(
         tmp_path,

@@ -318,6 +318,7 @@ def _plot(*args: str) -> object:
     return CliRunner().invoke(app, ["plot", *args, "--no-illustrative"])
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_plot_refuses_user_folders_and_leaves_them_identical(
     stores: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -340,6 +341,7 @@ def test_plot_refuses_user_folders_and_leaves_them_identical(
         assert _snapshot(user) == before
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_plot_reuses_its_own_folder_only_with_overwrite(
     stores: dict[str, Path], tmp_path: Path
 ) -> None:
@@ -356,6 +358,7 @@ def test_plot_reuses_its_own_folder_only_with_overwrite(
     assert (figs / "fig12_kappa.svg").is_file()
 
 
+@pytest.mark.slow  # renders and writes full figure sets (seconds each)
 @pytest.mark.parametrize("case", ["single", "one_realization", "nonfinite", "failed"])
 def test_plot_degenerate_stores(stores: dict[str, Path], tmp_path: Path, case: str) -> None:
     figs = tmp_path / "figs"
