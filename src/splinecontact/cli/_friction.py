@@ -99,7 +99,7 @@ def register(app: typer.Typer) -> None:
         Nothing is written when anything fails.
         """
         from ..contact import simulate
-        from ..friction import FrictionAnalysisError, static_friction, tangential_stiffness
+        from ..analysis import FrictionAnalysisError, static_friction, tangential_stiffness
         from ..loadpath import parse_path
         from ..outputs import check_output_file
         from ._measured import _check_result_suffix, write_result
