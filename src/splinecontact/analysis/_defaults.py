@@ -1,8 +1,9 @@
 """Defaults of the analysis stage, in one place.
 
-``_PARAMETER_DEFAULTS`` holds the model parameters an analysis may need when a study Dataset
-neither sweeps them nor stores them as attributes (read by
-:func:`splinecontact.analysis.parameter`); they are the package-wide defaults of those parameters.
+``_MODEL_DEFAULTS`` holds the package-wide defaults of the model parameters this stage needs:
+those :func:`splinecontact.analysis.parameter` fills in when a study Dataset neither sweeps them
+nor stores them as attributes (``_PARAMETER_DEFAULTS``), and those of
+:func:`splinecontact.analysis.friction_study`.
 The κ options are the defaults of :func:`splinecontact.analysis.kappa`, also used by the report
 of ``splinecontact reproduce``.
 """
@@ -16,10 +17,13 @@ RsqSource = Literal["auto", "gap", "lower", "upper"]
 #: How R_Sq is computed: grid differences of the heights, or the spline slope f′.
 RsqMethod = Literal["grid", "spline"]
 
-#: Defaults of model parameters that may be neither swept nor stored as attributes: E* [GPa]
-#: and the profile length L [µm]; also E* and μ0 [1] of
-#: :func:`~splinecontact.analysis.friction_study`.
-_PARAMETER_DEFAULTS: dict[str, Any] = {"e_star": 10.0, "length": 100.0, "mu0": 0.3}
+#: Package-wide defaults of the model parameters this stage uses: E* [GPa], the profile length
+#: L [µm] and μ0 [1]. The one place to point at the parameter registry.
+_MODEL_DEFAULTS: dict[str, Any] = {"e_star": 10.0, "length": 100.0, "mu0": 0.3}
+
+#: Parameters :func:`splinecontact.analysis.parameter` fills in when a study Dataset neither
+#: sweeps them nor stores them as attributes.
+_PARAMETER_DEFAULTS: dict[str, Any] = {k: _MODEL_DEFAULTS[k] for k in ("e_star", "length")}
 
 #: Default upper end of the κ fit range, as a fraction of the final load [1].
 DEFAULT_FIT_FRACTION: float = 0.3

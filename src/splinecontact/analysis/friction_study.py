@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ParameterError
-from ._defaults import _PARAMETER_DEFAULTS
+from ._defaults import _MODEL_DEFAULTS
 from .ensemble import confidence_halfwidth
 from .friction import (
     dilatancy,
@@ -51,9 +51,9 @@ def friction_study(
     travel: float = 0.05,
     normal_steps: int = 200,
     tangential_steps: int = 250,
-    e_star: float = _PARAMETER_DEFAULTS["e_star"],
+    e_star: float = _MODEL_DEFAULTS["e_star"],
     g_star: float | None = None,
-    mu0: float = _PARAMETER_DEFAULTS["mu0"],
+    mu0: float = _MODEL_DEFAULTS["mu0"],
     confidence: float = 0.95,
 ) -> Any:
     """μ_s, k_T, k_T/k_N, dissipation and dilatancy against D over an ensemble of pairs.
