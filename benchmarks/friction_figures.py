@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from splinecontact import Segment, simulate, weierstrass_mandelbrot_pair
-from splinecontact.friction import (
+from splinecontact.analysis import (
     friction_study,
     mindlin_stiffness_ratio,
     normal_stiffness,

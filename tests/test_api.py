@@ -26,7 +26,6 @@ DOCUMENTED_MODULES = {
     "compare",
     "config",
     "diagnostics",
-    "friction",
     "generate",
     "io",
     "loadpath",

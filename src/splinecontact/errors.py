@@ -126,3 +126,16 @@ class OutputExistsError(OutputError):
 
 class UnsafeOutputError(OutputError):
     """Writing there could destroy something splinecontact did not create (or an input)."""
+
+
+# === analysis stage (splinecontact.analysis, splinecontact.reproduce) =========================
+
+__all__ += ["AnalysisError", "FrictionAnalysisError"]
+
+
+class AnalysisError(SplineContactError, ValueError):
+    """A study Dataset cannot be analysed as asked (missing variable, no successful run, ...)."""
+
+
+class FrictionAnalysisError(ParameterError):
+    """A result cannot give the requested friction quantity (no path, no tangential segment)."""
