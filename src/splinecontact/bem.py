@@ -42,15 +42,19 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numba
 import numpy as np
 import scipy.fft as sfft
 from numpy.typing import ArrayLike, NDArray
 
+from . import schema
 from .errors import BEMError, NoConvergenceError
 from .profile import Profile
+
+if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
+    import xarray as xr
 
 __all__ = [
     "DEFAULT_MAX_ITERATIONS",
@@ -463,19 +467,9 @@ class BEMStep:
     gap: NDArray[np.float64] | None = field(default=None, repr=False)
 
 
-#: Per-step quantities of :class:`BEMPath` with their units (the column schema of tables).
-STEP_UNITS: dict[str, str] = {
-    "mean_pressure": "GPa",
-    "force": "mN/µm",
-    "mean_gap": "µm",
-    "approach": "µm",
-    "contact_nodes": "1",
-    "contact_length": "µm",
-    "contact_length_subgrid": "µm",
-    "n_patches": "1",
-    "iterations": "1",
-    "residual": "1",
-}
+#: Per-step quantities of :class:`BEMPath` with their units (the column schema of tables;
+#: defined in :mod:`splinecontact.schema`, table ``bem_step``).
+STEP_UNITS: dict[str, str] = {name: v.units for name, v in schema.table("bem_step").items()}
 
 
 @dataclass(frozen=True, eq=False)
@@ -512,6 +506,35 @@ class BEMPath:
     def length(self) -> float:
         """Period L [µm]."""
         return float(self.n_points * self.dx)
+
+    def to_xarray(self) -> xr.Dataset:
+        """Return the path as an :class:`xarray.Dataset` (dimension ``load``, one per step).
+
+        Every quantity of ``STEP_UNITS`` is a variable with ``units`` and ``long_name``
+        (:mod:`splinecontact.schema`); the attributes hold ``e_star`` [GPa], ``dx`` [µm],
+        ``n_points``, ``length`` [µm] and ``tolerance``. The nodal fields are not included.
+        """
+        import xarray as xr
+
+        data_vars = {
+            name: schema.xr_variable(
+                name,
+                np.array([getattr(s, name) for s in self.steps], dtype=variable.dtype),
+            )
+            for name, variable in schema.table("bem_step").items()
+        }
+        attrs = {
+            "e_star_GPa": float(self.e_star),
+            "dx_um": float(self.dx),
+            "n_points": int(self.n_points),
+            "length_um": self.length,
+            "tolerance": float(self.tolerance),
+            "units_convention": "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness",
+        }
+        coords = {
+            "load": ("load", np.arange(len(self.steps)), {"units": "1", "long_name": "load index"})
+        }
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
 # --- solvers --------------------------------------------------------------------------------

@@ -25,6 +25,7 @@ __all__ = [
     "ProfileReadError",
     "ProfileShapeError",
     "ProfileTypeError",
+    "ResultSchemaError",
     "SplineContactError",
     "StudyConfigError",
     "StudyStoreError",
@@ -111,6 +112,13 @@ class BEMError(SplineContactError):
 
 class NoConvergenceError(BEMError):
     """An iterative solver did not reach its tolerance within its iteration limit."""
+
+
+# --- results --------------------------------------------------------------------------------
+
+
+class ResultSchemaError(SplineContactError, ValueError):
+    """A result object is built without a variable its schema requires."""
 
 
 # --- outputs ----------------------------------------------------------------------------------
