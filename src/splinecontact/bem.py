@@ -529,7 +529,9 @@ class BEMPath:
             "n_points": int(self.n_points),
             "length_um": self.length,
             "tolerance": float(self.tolerance),
-            "units_convention": "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness",
+            "units_convention": (
+                "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
+            ),
         }
         coords = {
             "load": ("load", np.arange(len(self.steps)), {"units": "1", "long_name": "load index"})

@@ -109,7 +109,8 @@ class Comparison:
             "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
         )
         n = int(np.size(self.columns["force"]))
-        coords = {"load": ("load", np.arange(n), {"units": "1", "long_name": "compared force index"})}
+        index = {"units": "1", "long_name": "compared force index"}
+        coords = {"load": ("load", np.arange(n), index)}
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

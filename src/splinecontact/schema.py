@@ -190,7 +190,12 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
         ("contact_tangential_force", "mN/µm", "F^t_i along the contact tangent t (eqs. 11–13)", _F),
         ("contact_normal_x", "1", "x component of the repulsive direction e_i", _F),
         ("contact_normal_z", "1", "z component of the repulsive direction e_i", _F),
-        ("contact_slipping", "1", "1 where the contact slips (|F^t| capped at μ0|F^n|), else 0", _B),
+        (
+            "contact_slipping",
+            "1",
+            "1 where the contact slips (|F^t| capped at μ0|F^n|), else 0",
+            _B,
+        ),
     ],
     "bem_step": [
         ("mean_pressure", "GPa", "applied mean pressure p̄ = F/L of the exact solution", _F),
