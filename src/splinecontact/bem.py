@@ -50,7 +50,15 @@ import scipy.fft as sfft
 from numpy.typing import ArrayLike, NDArray
 
 from . import schema
-from .errors import BEMError, NoConvergenceError
+from .errors import (
+    BEMGridError,
+    BEMInputError,
+    BEMParameterError,
+    FullContactError,
+    NegativeLoadError,
+    NoConvergenceError,
+    NonPeriodicProfileError,
+)
 from .profile import Profile
 
 if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
@@ -93,33 +101,6 @@ DEFAULT_MAX_ITERATIONS = 100_000
 #: A profile is periodic-compatible when its wrap-around step |z[0] − z[n−1]| is at most this
 #: factor times the largest step between neighbours inside the profile.
 PERIODIC_JUMP_FACTOR = 2.0
-
-
-# --- errors ---------------------------------------------------------------------------------
-
-
-class BEMInputError(BEMError, ValueError):
-    """Bad input to the boundary element solver (base of the specific errors below)."""
-
-
-class BEMGridError(BEMInputError):
-    """The grid cannot be used: too few points, bad spacing, mismatched bodies, NaN heights."""
-
-
-class NonPeriodicProfileError(BEMGridError):
-    """The profile does not wrap around smoothly, so it cannot be one period of a surface."""
-
-
-class BEMParameterError(BEMInputError):
-    """A solver parameter (E*, tolerance, iteration limit) is out of range."""
-
-
-class NegativeLoadError(BEMInputError):
-    """A negative mean pressure or force was requested (the contact is non-adhesive)."""
-
-
-class FullContactError(BEMInputError):
-    """The load or mean gap asked for lies at or beyond full contact."""
 
 
 # --- the problem ----------------------------------------------------------------------------

@@ -39,12 +39,14 @@ from numpy.polynomial import Polynomial
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import (
-    GridNotIncreasingError,
+    CropError,
+    DuplicatePositionError,
     GridNotUniformError,
-    NonFiniteValueError,
-    ParameterError,
+    GridOrderError,
+    PreprocessingOptionError,
     ProfileError,
     ProfileShapeError,
+    UndefinedPointsError,
 )
 from .profile import MIN_POINTS, UNIFORM_GRID_RTOL, Profile
 
@@ -74,29 +76,6 @@ _FIT_LIMIT = 1e150
 
 #: Default ceiling on the number of points resampling may create (``Preprocessing.max_points``).
 MAX_RESAMPLE_POINTS = 100_000_000
-
-
-# --- errors ---------------------------------------------------------------------------------
-
-
-class UndefinedPointsError(NonFiniteValueError):
-    """The scan has undefined points (NaN, or flagged invalid by the instrument)."""
-
-
-class GridOrderError(GridNotIncreasingError):
-    """``x`` steps back somewhere in the scan."""
-
-
-class DuplicatePositionError(GridNotIncreasingError):
-    """Two or more points share the same ``x``."""
-
-
-class CropError(ProfileError):
-    """The crop range leaves too few points or is not a valid range."""
-
-
-class PreprocessingOptionError(ParameterError):
-    """A preprocessing option has an invalid value."""
 
 
 # --- data -----------------------------------------------------------------------------------

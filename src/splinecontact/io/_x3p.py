@@ -27,8 +27,9 @@ from xml.parsers import expat
 
 import numpy as np
 
+from ..errors import DamagedX3PError
 from ..preprocess import RawProfile
-from ._errors import CorruptFileError, FileTooLargeError, LineSelectionError, X3PError
+from ._errors import FileTooLargeError, LineSelectionError, X3PError
 from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
 
 __all__ = ["DamagedX3PError", "read_x3p"]
@@ -48,10 +49,6 @@ ZIP_ERRORS = (
     ValueError,
     OverflowError,
 )
-
-
-class DamagedX3PError(X3PError, CorruptFileError):
-    """An X3P archive is damaged: bad zip structure, checksum, compressed stream or sizes."""
 
 
 class _Forbidden(Exception):
