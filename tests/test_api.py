@@ -36,6 +36,7 @@ DOCUMENTED_MODULES = {
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 }
