@@ -1216,6 +1216,24 @@ def load_path(
         For the first offending step, before anything is solved.
     NoConvergenceError
         A step did not converge.
+
+    Examples
+    --------
+    A sinusoid pressed flat (Westergaard): p̄/p* = sin²(πa/λ), so at half the full-contact
+    pressure p* the contact covers half the wavelength.
+
+    >>> import numpy as np
+    >>> from splinecontact import bem
+    >>> n, wavelength = 256, 10.0
+    >>> x = np.arange(n) * (wavelength / n)
+    >>> z = 0.01 * np.cos(2 * np.pi * x / wavelength)
+    >>> problem = bem.contact_problem(z, e_star=10.0, dx=wavelength / n)
+    >>> path = bem.load_path(problem, [0.25 * problem.full_contact_pressure,
+    ...                                0.5 * problem.full_contact_pressure])
+    >>> round(path.steps[-1].contact_length_subgrid, 1), path.steps[-1].n_patches
+    (5.0, 1)
+    >>> path.to_xarray()["contact_length_subgrid"].attrs["units"]
+    'µm'
     """
     _check_solver_args(tol, max_iterations)
     loads = [_check_load(problem, p) for p in np.asarray(mean_pressures, dtype=np.float64)]

@@ -222,6 +222,16 @@ def compare_profiles(
         ``max_contact_fraction``.
     NoConvergenceError
         The BEM did not converge at one force; the message names the force and what to change.
+
+    Examples
+    --------
+    >>> from splinecontact import compare_profiles, weierstrass_mandelbrot
+    >>> profile = weierstrass_mandelbrot(1.5, n_points=1024, length=10.0, seed=3)
+    >>> comparison = compare_profiles(profile, "flat", steps=20, n_forces=3)
+    >>> comparison.columns["force"].size
+    3
+    >>> comparison.to_xarray()["bem_contact_length_subgrid"].attrs["units"]
+    'µm'
     """
     import time
 

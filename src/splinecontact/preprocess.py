@@ -755,6 +755,21 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
     k·r or (k+1)·r (k = ⌊s/r⌋) and a missing sample a step near 2s, so every step must be k·r
     or (k+1)·r and 2s/r ≥ k + 2 (else a double step could pass for a single one: with
     s < 1.5 r the grid is refused as too coarsely printed to tell).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from splinecontact.preprocess import Preprocessing, RawProfile, to_profile
+    >>> raw = RawProfile(np.array([0.0, 0.2, 0.1, 0.3, 0.4]), np.array([0.0, 0.2, 0.1, 0.0, -0.1]))
+    >>> to_profile(raw)
+    Traceback (most recent call last):
+    ...
+    splinecontact.errors.GridOrderError: the scan: x steps back at index 2: ...
+    >>> profile = to_profile(raw, Preprocessing(order="sort"))
+    >>> profile.x
+    array([0. , 0.1, 0.2, 0.3, 0.4])
+    >>> [step["step"] for step in profile.metadata["preprocessing"]]
+    ['sort']
     """
     scan, opts = _start(raw, options)
     scan = _undefined_points(scan, raw, opts)
