@@ -514,9 +514,7 @@ class BEMPath:
                 "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
             ),
         }
-        coords = {
-            "load": ("load", np.arange(len(self.steps)), {"units": "1", "long_name": "load index"})
-        }
+        coords = {"load": schema.coordinate("load", len(self.steps))}
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

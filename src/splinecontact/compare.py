@@ -109,8 +109,7 @@ class Comparison:
             "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
         )
         n = int(np.size(self.columns["force"]))
-        index = {"units": "1", "long_name": "compared force index"}
-        coords = {"load": ("load", np.arange(n), index)}
+        coords = {"load": schema.coordinate("load", n)}
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 

@@ -302,8 +302,7 @@ class SimulationResult:
         from ._version import __version__
 
         attrs["splinecontact_version"] = __version__
-        step_attrs = {"units": "1", "long_name": "loading step (0 = first contact)"}
-        coords = {"step": ("step", steps, step_attrs)}
+        coords = {"step": schema.coordinate("step", steps.size)}
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
     def to_netcdf(self, path: str | Path) -> Path:

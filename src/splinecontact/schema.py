@@ -48,11 +48,13 @@ if TYPE_CHECKING:  # xarray is imported when a variable is made, not with the pa
     import xarray as xr
 
 __all__ = [
+    "COORDINATES",
     "TABLES",
     "VARIABLES",
     "Table",
     "Variable",
     "attrs",
+    "coordinate",
     "legacy_table",
     "table",
     "units",
@@ -246,6 +248,27 @@ VARIABLES: Mapping[str, Variable] = _build()
 #: The tables whose variables also appear in another table (``force`` is a column of a
 #: comparison as well as of the exact reference's steps): table -> extra names, in order.
 _SHARED: dict[Table, tuple[str, ...]] = {"comparison": ("force",)}
+
+
+#: Index coordinates of the written datasets: name -> (units, long_name). A study store adds
+#: its grid coordinates (the swept parameters, units from :mod:`splinecontact.config`).
+COORDINATES: Mapping[str, tuple[str, str]] = MappingProxyType(
+    {
+        "step": ("1", "loading step (0 = first contact)"),
+        "contact": ("1", "index of a recorded accepted contact"),
+        "load": ("1", "index of the load (one exact solution or comparison per load)"),
+        "realization": ("1", "realization index (its seed derives from the study seed)"),
+    }
+)
+
+
+def coordinate(name: str, size: int) -> tuple[str, Any, dict[str, str]]:
+    """An index coordinate ``0 … size − 1`` in the ``(dim, values, attrs)`` form of xarray."""
+    import numpy as np
+
+    units_, long_name = COORDINATES[name]
+    values = np.arange(size, dtype=np.int64)
+    return (name, values, {"units": units_, "long_name": long_name})
 
 
 def table(name: Table) -> dict[str, Variable]:
