@@ -35,6 +35,7 @@ DOCUMENTED_MODULES = {
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 }

@@ -9,8 +9,8 @@ Units throughout: lengths µm, moduli GPa, forces mN per µm of out-of-plane thi
 
 The names of ``__all__`` are the core API. The documented modules ``analysis``, ``bem``,
 ``compare``, ``config``, ``diagnostics``, ``generate``, ``io``, ``loadpath``,
-``outputs``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``spectra``
-and ``study`` are imported on first use, so
+``outputs``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``schema``,
+``spectra`` and ``study`` are imported on first use, so
 ``splinecontact.study.run_study`` works after a plain ``import splinecontact``.
 """
 
@@ -74,6 +74,7 @@ _SUBMODULES = (
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 )
