@@ -126,3 +126,24 @@ class OutputExistsError(OutputError):
 
 class UnsafeOutputError(OutputError):
     """Writing there could destroy something splinecontact did not create (or an input)."""
+
+
+# === study stage (splinecontact.study) ===========================================================
+
+from typing import Any  # noqa: E402
+
+__all__ += ["StudyExecutionError"]
+
+
+class StudyExecutionError(SplineContactError):
+    """Some batches of a study could not be run (a worker died, the scheduler is unreachable, ...).
+
+    Attributes
+    ----------
+    summary : splinecontact.study.StudySummary or None
+        The state of the store when the run stopped (None if it never started).
+    """
+
+    def __init__(self, message: str, summary: Any = None) -> None:
+        super().__init__(message)
+        self.summary: Any = summary
