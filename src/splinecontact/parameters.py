@@ -115,7 +115,7 @@ class Parameter:
         return self.default is REQUIRED
 
     @property
-    def bounds(self) -> dict[str, float | int]:
+    def bounds(self) -> dict[str, Any]:
         """The bounds that are set, by keyword (``gt``, ``ge``, ``lt``, ``le``)."""
         return {
             key: value
