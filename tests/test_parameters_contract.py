@@ -8,8 +8,10 @@ study files the registry's.
 
 from __future__ import annotations
 
+import importlib
 import inspect
 import math
+import pkgutil
 import re
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -39,17 +41,25 @@ UNIT = re.compile(r"\[([^\]]+)\]")
 def _doc_units(func: Callable[..., Any]) -> dict[str, str | None]:
     """For each parameter of ``func``'s numpydoc section: the first ``[unit]`` (None: none)."""
     doc = inspect.getdoc(func) or ""
+    if "Parameters\n----------\n" not in doc:
+        return {}
     section = doc.split("Parameters\n----------\n", 1)[1]
     section = re.split(r"\n\n(?:Returns|Raises|Yields|Notes|Examples|See Also)\n-", section)[0]
-    units: dict[str, str | None] = {}
-    name = None
+    found: dict[tuple[str, ...], list[str]] = {}
+    names: tuple[str, ...] = ()
     for line in section.splitlines():
-        header = re.match(r"^(\w+) : ", line)
+        header = re.match(r"^(\w+(?:, \w+)*) : ", line)  # "alpha, x0 : float" too
         if header:
-            name = header.group(1)
-            units[name] = None
-        elif name is not None and units[name] is None and (unit := UNIT.search(line)):
-            units[name] = unit.group(1)
+            names = tuple(header.group(1).split(", "))
+            found[names] = []
+        elif names:
+            found[names] += UNIT.findall(line)
+    units: dict[str, str | None] = {}
+    for names, brackets in found.items():
+        if len(names) > 1 and len(brackets) >= len(names):  # "α [1] and x0 [µm]": in order
+            units.update(zip(names, brackets, strict=False))
+        else:
+            units.update(dict.fromkeys(names, brackets[0] if brackets else None))
     return units
 
 
@@ -182,25 +192,60 @@ def test_the_pair_generator_takes_the_generator_parameters() -> None:
     assert _doc_units(weierstrass_mandelbrot_pair)["dimension"] == PARAMETERS["dimension"].unit
 
 
-def _public_functions() -> Iterator[tuple[str, Callable[..., Any]]]:
-    for name in splinecontact.__all__:
-        value = getattr(splinecontact, name)
-        if inspect.isfunction(value):
-            yield name, value
+#: Parameters of public functions that share a registry name but not its meaning or default:
+#: (function, parameter) -> why.
+NOT_THE_MODEL_PARAMETER = {
+    ("TrendTest", "alpha"): "significance level of a trend test, not the spline α",
+    ("trend_test", "alpha"): "significance level of a trend test, not the spline α",
+    ("trend_from_estimates", "alpha"): "significance level of a trend test, not the spline α",
+    ("StudyLimits", "steps"): "a ceiling on steps, not the number of steps",
+    ("friction_study", "n_points"): "the friction sweep's own small default profile",
+    ("friction_study", "length"): "the friction sweep's own small default profile",
+}
 
 
-def test_every_public_function_keeps_the_registry_defaults() -> None:
-    """Any top-level function with a parameter of the registry's name has its default."""
+def _public_callables() -> Iterator[tuple[str, Callable[..., Any]]]:
+    """Every public function, class and method of every public module of the package."""
+    seen: set[int] = set()
+    for info in pkgutil.walk_packages(splinecontact.__path__, "splinecontact."):
+        if any(part.startswith("_") for part in info.name.split(".")) or ".cli" in info.name:
+            continue
+        module = importlib.import_module(info.name)
+        for name in getattr(module, "__all__", ()):
+            value = getattr(module, name)
+            members = [(name, value)]
+            if inspect.isclass(value):
+                members += [
+                    (f"{name}.{k}", v) for k, v in vars(value).items() if inspect.isfunction(v)
+                ]
+            for label, member in members:
+                if callable(member) and id(member) not in seen:
+                    seen.add(id(member))
+                    yield label, member
+
+
+def test_every_public_function_keeps_the_registry_defaults_and_units() -> None:
+    """Any public function with a parameter of the registry's name has its default and unit."""
     checked = 0
-    for function, func in _public_functions():
-        for name, given in inspect.signature(func).parameters.items():
+    for function, func in _public_callables():
+        try:
+            signature = inspect.signature(func).parameters
+        except (TypeError, ValueError):
+            continue
+        units = None
+        for name, given in signature.items():
             parameter = PARAMETERS.get(name)
-            if parameter is None or given.default is inspect.Parameter.empty:
+            if parameter is None or (function.split(".")[0], name) in NOT_THE_MODEL_PARAMETER:
                 continue
             checked += 1
-            assert not parameter.required, (function, name)
-            assert given.default == parameter.default, (function, name, given.default)
-    assert checked >= 16
+            if given.default is not inspect.Parameter.empty:
+                assert not parameter.required, (function, name)
+                assert given.default == parameter.default, (function, name, given.default)
+            if parameter.unit and not inspect.isclass(func):
+                units = _doc_units(func) if units is None else units
+                if name in units:
+                    assert units[name] == parameter.unit, (function, name, units[name])
+    assert checked >= 40
 
 
 # --- the command line ------------------------------------------------------------------------
