@@ -14,6 +14,7 @@ import math
 import pkgutil
 import re
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -295,3 +296,36 @@ def test_the_cli_exposes_the_model_parameters() -> None:
     assert generator <= names["generate"]
     for command in ("simulate", "friction"):
         assert {"e_star", "g_star", "mu0", "alpha", "x0"} <= names[command]
+
+
+# --- the documentation -----------------------------------------------------------------------
+
+
+def _docs_table() -> dict[str, list[str]]:
+    path = Path(__file__).resolve().parents[1] / "docs" / "studies.md"
+    rows: dict[str, list[str]] = {}
+    text = path.read_text(encoding="utf-8")
+    section = text.split("### Parameters\n", 1)[1].split("\n#", 1)[0]
+    for line in section.splitlines():
+        match = re.match(r"^\| `(\w+)` \|(.*)\|$", line)
+        if match and match.group(1) in PARAMETERS:
+            rows[match.group(1)] = [cell.strip() for cell in match.group(2).split("|")]
+    return rows
+
+
+def test_the_documented_parameter_table_is_the_registry() -> None:
+    rows = _docs_table()
+    assert list(rows) == list(PARAMETERS)
+    for name, (shown, unit, _, _) in rows.items():
+        parameter = PARAMETERS[name]
+        assert unit == parameter.unit, (name, unit)
+        if parameter.required:
+            assert "required" in shown, name
+        elif parameter.default is None:
+            assert "(engine)" in shown, name
+        else:
+            value = shown.strip("`").replace(" ", "")
+            expected = parameter.default
+            assert (value.strip('"') if parameter.kind is str else parameter.kind(value)) == (
+                expected
+            ), (name, shown)
