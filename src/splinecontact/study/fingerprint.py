@@ -46,9 +46,10 @@ def _relative_imports(name: str, file: Path) -> Iterator[str]:
 def engine_fingerprint() -> str:
     """SHA-256 (16 hex digits) of the source of every package module a realization runs.
 
-    The modules are found by following the package-relative imports of the runner (those
-    inside functions too), so a new engine module is covered without a list to maintain. The
-    study package itself (config, store, executors, runner) is excluded. A store records it;
+    The modules are found by following the package-relative imports of the runner
+    (:mod:`splinecontact.study.runner`, those inside functions too) and of the engine modules
+    they reach, so a new engine module is covered without a list to maintain. The study package
+    itself (config, store, executors, runner) is excluded. A store records it;
     resuming with another fingerprint is refused, because the store would mix results of two
     codes.
     """
@@ -63,7 +64,9 @@ def engine_fingerprint() -> str:
         if file is None:
             continue
         seen.add(name)
-        todo.extend(_relative_imports(name, file))
+        # the rest of the study package (files, store, executors) is not run by a realization
+        if name == _ENGINE_ROOT or name.split(".")[0] != _RUNNER_PACKAGE:
+            todo.extend(_relative_imports(name, file))
     for name in sorted(seen):
         if name.split(".")[0] == _RUNNER_PACKAGE:
             continue
