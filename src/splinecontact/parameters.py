@@ -62,10 +62,12 @@ class _Required:
 #: The default of a parameter that has none (it must be given).
 REQUIRED: Final = _Required()
 
-#: Groups: the function that consumes the parameter.
-GENERATOR: Final = "generator"  #: keyword of :func:`splinecontact.weierstrass_mandelbrot`
-CONTACT: Final = "contact"  #: keyword of :func:`splinecontact.simulate`
-STUDY: Final = "study"  #: chosen by a study (which profiles, which bodies)
+#: Group of the keywords of :func:`splinecontact.weierstrass_mandelbrot` (eq. 1).
+GENERATOR: Final = "generator"
+#: Group of the keywords of :func:`splinecontact.simulate` (eqs. 2–14).
+CONTACT: Final = "contact"
+#: Group of the choices of a study (which bodies are pressed together).
+STUDY: Final = "study"
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
-from typing import Any, Generic, TypeVar
+from typing import Any, TypeVar
 
 from .._version import __version__
 from ..errors import StudyConfigError, StudyExecutionError
@@ -31,10 +31,10 @@ R = TypeVar("R")
 
 
 @dataclass(frozen=True)
-class Lost(Generic[T]):
+class Lost:
     """A task that could not be run (its worker died, ...), with the reason."""
 
-    task: T
+    task: Any
     reason: str
 
 
@@ -46,7 +46,7 @@ class Executor:
         """How many tasks run at once (a Dask executor first checks its workers' code)."""
         raise NotImplementedError
 
-    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost[T]]:
+    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
         """The outcome of every task, as they finish (closing the iterator stops the work)."""
         raise NotImplementedError
 
@@ -101,7 +101,7 @@ class LocalExecutor(Executor):
     def workers(self) -> int:
         return self._workers
 
-    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost[T]]:
+    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
         if self._workers == 1 or len(tasks) <= 1:
             return (function(task) for task in tasks)
         return self._run_pool(function, tasks, min(self._workers, len(tasks)))
@@ -109,7 +109,7 @@ class LocalExecutor(Executor):
     @staticmethod
     def _run_pool(
         function: Callable[[T], R], tasks: Sequence[T], workers: int
-    ) -> Iterator[R | Lost[T]]:
+    ) -> Iterator[R | Lost]:
         context = multiprocessing.get_context("spawn")
         pool = ProcessPoolExecutor(
             max_workers=workers,
@@ -216,7 +216,7 @@ class DaskExecutor(Executor):
         self._check_workers()
         return max(1, sum(self.client.nthreads().values()))
 
-    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost[T]]:
+    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
         from distributed import as_completed
 
         futures = {self.client.submit(function, task, pure=False): task for task in tasks}

@@ -442,7 +442,7 @@ def run_study(
                 size = _auto_batch_size(total - n_done, n_workers)
             tasks = _make_batches(config, status, size)
             batch = functools.partial(run_batch, realization_function=realization_function)
-            results: Iterator[BatchResult | Lost[BatchTask]] = (
+            results: Iterator[BatchResult | Lost] = (
                 executor.run(batch, tasks) if tasks else iter(())
             )
             ran_now = 0
