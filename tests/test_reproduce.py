@@ -13,8 +13,8 @@ from typer.testing import CliRunner
 
 from splinecontact import reproduce
 from splinecontact.cli import app
-from splinecontact.config import parse_study
 from splinecontact.errors import ParameterError
+from splinecontact.study.config import parse_study
 from test_analysis import E_STAR, make_study
 
 DIMS = (1.2, 1.4, 1.6, 1.7, 1.8, 1.9)

@@ -11,6 +11,8 @@ the package, so every stage can import it); the stage modules re-export the ones
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
     "BEMError",
     "BEMGridError",
@@ -308,3 +310,22 @@ class AnalysisError(SplineContactError, ValueError):
 
 class FrictionAnalysisError(ParameterError):
     """A result cannot give the requested friction quantity (no path, no tangential segment)."""
+
+
+# === study stage (splinecontact.study) ===========================================================
+
+__all__ += ["StudyExecutionError"]
+
+
+class StudyExecutionError(SplineContactError):
+    """Some batches of a study could not be run (a worker died, the scheduler is unreachable, ...).
+
+    Attributes
+    ----------
+    summary : splinecontact.study.StudySummary or None
+        The state of the store when the run stopped (None if it never started).
+    """
+
+    def __init__(self, message: str, summary: Any = None) -> None:
+        super().__init__(message)
+        self.summary: Any = summary

@@ -251,7 +251,7 @@ _SHARED: dict[Table, tuple[str, ...]] = {"comparison": ("force",)}
 
 
 #: Index coordinates of the written datasets: name -> (units, long_name). A study store adds
-#: its grid coordinates (the swept parameters, units from :mod:`splinecontact.config`).
+#: its grid coordinates (the swept parameters, units from :mod:`splinecontact.parameters`).
 COORDINATES: Mapping[str, tuple[str, str]] = MappingProxyType(
     {
         "step": ("1", "loading step (0 = first contact)"),

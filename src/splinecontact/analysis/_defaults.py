@@ -12,14 +12,16 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
+from ..parameters import default
+
 #: Whose rms slope R_Sq enters κ (eq. 15): see :func:`splinecontact.analysis.kappa`.
 RsqSource = Literal["auto", "gap", "lower", "upper"]
 #: How R_Sq is computed: grid differences of the heights, or the spline slope f′.
 RsqMethod = Literal["grid", "spline"]
 
 #: Package-wide defaults of the model parameters this stage uses: E* [GPa], the profile length
-#: L [µm] and μ0 [1]. The one place to point at the parameter registry.
-_MODEL_DEFAULTS: dict[str, Any] = {"e_star": 10.0, "length": 100.0, "mu0": 0.3}
+#: L [µm] and μ0 [1], read from :mod:`splinecontact.parameters`.
+_MODEL_DEFAULTS: dict[str, Any] = {k: default(k) for k in ("e_star", "length", "mu0")}
 
 #: Parameters :func:`splinecontact.analysis.parameter` fills in when a study Dataset neither
 #: sweeps them nor stores them as attributes.

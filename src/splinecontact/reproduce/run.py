@@ -195,9 +195,8 @@ def reproduce(
     -------
     ReproduceResult
     """
-    from ..config import parse_study
     from ..plotting import build_figures, write_figures
-    from ..study import open_study, run_study
+    from ..study import open_study, parse_study, run_study
 
     t0 = time.perf_counter()
     config = parse_study(study_mapping(scale))
