@@ -40,7 +40,7 @@ Modules
   means, standard deviations and confidence bands.
 * :mod:`~splinecontact.analysis.stiffness` — k = dF_N/dδ_N per realization and of the
   ensemble-mean curve.
-* :mod:`~splinecontact.analysis.kappa` — κ (eq. 15) and the power law of A_S(F_N).
+* :mod:`~splinecontact.analysis.area_load` — κ (eq. 15) and the power law of A_S(F_N).
 * :mod:`~splinecontact.analysis.hurst` — nominal and measured Hurst exponents.
 * :mod:`~splinecontact.analysis.method` — diagnostics of the method (the split of F_N, eq. 14).
 * :mod:`~splinecontact.analysis.friction` — μ_s, k_T, k_N, Mindlin's ratio, dissipation and
@@ -54,6 +54,14 @@ in :mod:`splinecontact.reproduce.statistics`.
 from __future__ import annotations
 
 from ..errors import AnalysisError, FrictionAnalysisError
+from .area_load import (
+    BUSH_KAPPA,
+    PERSSON_KAPPA,
+    kappa,
+    kappa_alternatives,
+    linear_fit_through_origin,
+    power_law_exponent,
+)
 from .ensemble import (
     confidence_halfwidth,
     ensemble_statistics,
@@ -79,14 +87,6 @@ from .friction import (
 )
 from .friction_study import FRICTION_STUDY_VARIABLES, friction_study
 from .hurst import measured_hurst, nominal_hurst, study_hurst
-from .kappa import (
-    BUSH_KAPPA,
-    PERSSON_KAPPA,
-    kappa,
-    kappa_alternatives,
-    linear_fit_through_origin,
-    power_law_exponent,
-)
 from .method import force_split
 from .stiffness import dimensionless_stiffness, mean_curve_stiffness, stiffness
 

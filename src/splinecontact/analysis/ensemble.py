@@ -399,6 +399,20 @@ def ensemble_vs_displacement(
         Dims (grid…, sample), coordinate ``displacement`` [µm] on (grid…, sample); for each
         variable ``v``: ``v_mean``, ``v_std``, ``v_ci_low``, ``v_ci_high`` (units of ``v``) and
         ``v_count``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact.study import run_study, open_study
+    >>> from splinecontact.analysis import ensemble_vs_displacement
+    >>> config = {"study": {"name": "tiny", "seed": 1, "realizations": 2},
+    ...           "fixed": {"n_points": 2048, "length": 10.0, "steps": 20},
+    ...           "sweep": {"dimension": [1.3, 1.7]}}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     summary = run_study(config, pathlib.Path(folder) / "tiny.zarr", workers=1)
+    ...     ds = open_study(pathlib.Path(folder) / "tiny.zarr")
+    >>> ensemble_vs_displacement(ds, ["normal_force"], n_samples=11)["normal_force_mean"].shape
+    (2, 11)
     """
     interp = interpolate_realizations(ds, "displacement", list(variables), n_samples=n_samples)
     return _ensemble(interp, confidence)

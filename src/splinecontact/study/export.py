@@ -35,6 +35,21 @@ def open_study(path: str | Path) -> xr.Dataset:
     ------
     StudyStoreError
         If ``path`` is not a study store.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact.study import run_study, open_study
+    >>> config = {"study": {"name": "tiny", "seed": 1, "realizations": 2},
+    ...           "fixed": {"n_points": 2048, "length": 10.0, "steps": 20},
+    ...           "sweep": {"dimension": [1.3, 1.7]}}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     summary = run_study(config, pathlib.Path(folder) / "tiny.zarr", workers=1)
+    ...     ds = open_study(pathlib.Path(folder) / "tiny.zarr")
+    >>> dict(ds.sizes)
+    {'dimension': 2, 'realization': 2, 'step': 21}
+    >>> ds["normal_force"].attrs["units"]
+    'mN/µm'
     """
     path = Path(path)
     if not path.exists():

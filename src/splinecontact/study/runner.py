@@ -411,6 +411,18 @@ def run_study(
     StudyExecutionError
         Batches could not be run (a worker died, the scheduler is unreachable); everything
         finished is stored: run again to continue.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact.study import run_study, open_study
+    >>> config = {"study": {"name": "tiny", "seed": 1, "realizations": 2},
+    ...           "fixed": {"n_points": 2048, "length": 10.0, "steps": 20},
+    ...           "sweep": {"dimension": [1.3, 1.7]}}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     summary = run_study(config, pathlib.Path(folder) / "tiny.zarr", workers=1)
+    >>> summary.ok, summary.complete
+    (4, True)
     """
     if progress is not None and progress is not False and not callable(progress):
         raise StudyConfigError(

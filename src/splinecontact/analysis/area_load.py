@@ -122,6 +122,20 @@ def kappa(
         ``rsq`` [1], ``fit_max_force`` [mN/µm], ``n_fit_points`` [1]; over realizations:
         ``kappa_mean``, ``kappa_std``, ``kappa_ci_low``, ``kappa_ci_high``, ``kappa_count``.
         Attributes record the choices.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact.study import run_study, open_study
+    >>> from splinecontact.analysis import kappa
+    >>> config = {"study": {"name": "tiny", "seed": 1, "realizations": 2},
+    ...           "fixed": {"n_points": 2048, "length": 10.0, "steps": 20},
+    ...           "sweep": {"dimension": [1.3, 1.7]}}
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     summary = run_study(config, pathlib.Path(folder) / "tiny.zarr", workers=1)
+    ...     ds = open_study(pathlib.Path(folder) / "tiny.zarr")
+    >>> kappa(ds)["kappa"].dims
+    ('dimension', 'realization')
     """
     _check_fraction("fit_fraction", fit_fraction)
     _require(ds, ["normal_force", "contact_area", "status"])
