@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from splinecontact import analysis, plotting
@@ -21,11 +22,11 @@ def study() -> xr.Dataset:
     )
 
 
-def _axes() -> plotting.Axes:
+def _axes() -> Axes:
     return Figure().add_subplot()
 
 
-def _assert_labelled(ax: plotting.Axes) -> None:
+def _assert_labelled(ax: Axes) -> None:
     assert "[" in ax.get_xlabel() and "]" in ax.get_xlabel()
     assert "[" in ax.get_ylabel() and "]" in ax.get_ylabel()
 
@@ -138,12 +139,15 @@ def test_profile_figures_draw(tmp_path: Path) -> None:
 
 @pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_illustrative_figures_small(tmp_path: Path) -> None:
-    written, hurst = plotting.make_illustrative_figures(
-        tmp_path,
+    from splinecontact._reproduce_figures import illustrative_inputs
+
+    inputs = illustrative_inputs(
         dimensions=(1.2, 1.6),
         params={"n_points": 4000, "length": 4.0, "steps": 40},
         focus_dimension=1.4,
     )
+    written = plotting.make_illustrative_figures(inputs, tmp_path)
+    hurst = dict(zip(inputs.dimensions, analysis.measured_hurst(inputs.profiles), strict=True))
     assert set(written) == {
         "fig03_profiles",
         "fig04_spline_alpha",
@@ -162,7 +166,7 @@ def test_decimate_keeps_extremes() -> None:
     x = np.linspace(0, 1, 100_000)
     z = np.sin(50 * x)
     z[12345] = 7.0
-    xd, zd = plotting._decimate(x, z, max_points=1000)
+    xd, zd = plotting.decimate(x, z, max_points=1000)
     assert xd.size <= 1000
     assert zd.max() == 7.0
     assert zd.min() == pytest.approx(z.min())
@@ -195,11 +199,48 @@ def test_importing_plotting_keeps_the_users_backend() -> None:
     assert out.stdout.strip() == "ok"
 
 
+def _plotting_sources() -> dict[str, str]:
+    folder = Path(plotting.__file__).parent
+    return {p.name: p.read_text(encoding="utf-8") for p in sorted(folder.glob("*.py"))}
+
+
 def test_plotting_module_does_not_call_matplotlib_use() -> None:
-    source = Path(plotting.__file__).read_text(encoding="utf-8")
-    assert "matplotlib.use(" not in source
-    assert "import matplotlib.pyplot" not in source
-    assert "from matplotlib import pyplot" not in source
+    sources = _plotting_sources()
+    assert len(sources) > 1  # the package, not one file
+    for name, source in sources.items():
+        assert "matplotlib.use(" not in source, name
+        assert "import matplotlib.pyplot" not in source, name
+        assert "from matplotlib import pyplot" not in source, name
+
+
+def test_plotting_never_generates_and_imports_nothing_above_it() -> None:
+    """Plotting draws what it is given: no generation, fitting or simulation, no upward import."""
+    import ast
+
+    makers = {
+        "weierstrass_mandelbrot",
+        "weierstrass_mandelbrot_pair",
+        "fit_spline",
+        "simulate",
+        "run_study",
+        "study_hurst",
+        "measured_hurst",
+    }
+    above = {"reproduce", "cli", "_reproduce_figures"}
+    for name, source in _plotting_sources().items():
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom):
+                parts = (node.module or "").split(".")
+                module = parts[1] if node.level == 0 and parts[0] == "splinecontact" else parts[0]
+                assert module not in above, f"plotting/{name} imports {module}"
+                imported = {a.name for a in node.names}
+                assert not imported & makers, f"plotting/{name} imports {imported & makers}"
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    parts = alias.name.split(".")
+                    assert not (parts[0] == "splinecontact" and set(parts[1:2]) & above), name
+            elif isinstance(node, ast.Attribute):
+                assert node.attr not in makers, f"plotting/{name} calls .{node.attr}"
 
 
 def test_write_figures_follows_the_output_rule(tmp_path: Path) -> None:

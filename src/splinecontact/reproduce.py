@@ -1065,7 +1065,8 @@ def reproduce(
     ReproduceResult
     """
     from .config import parse_study
-    from .plotting import build_figures, write_figures
+    from ._reproduce_figures import draw_figures
+    from .plotting import write_figures
     from .study import open_study, run_study
 
     t0 = time.perf_counter()
@@ -1082,7 +1083,7 @@ def reproduce(
     study_time = time.perf_counter() - t1
     ds = open_study(store)
     t2 = time.perf_counter()
-    figs, hurst, notes = build_figures(
+    figs, hurst, notes = draw_figures(
         ds, kappa_options=kappa_options, hurst_profiles=hurst_profiles
     )
     figures = write_figures(figs, folder, prefix="figures/")
