@@ -162,6 +162,26 @@ def test_illustrative_figures_small(tmp_path: Path) -> None:
     assert hurst[1.2] > hurst[1.6]
 
 
+def test_svg_files_are_reproducible_and_png_pixels_do_not_depend_on_compression(
+    tmp_path: Path,
+) -> None:
+    """Same figure, same SVG bytes (no date); PNG written losslessly whatever the level."""
+    from PIL import Image
+
+    ax = plotting.new_axes(figsize=(2, 1.5))
+    ax.plot([0, 1, 2], [0, 1, 0])
+    fig = ax.figure
+    assert isinstance(fig, Figure)
+    first = plotting.save_figure(fig, tmp_path / "a")
+    second = plotting.save_figure(fig, tmp_path / "b")
+    assert first[1].read_bytes() == second[1].read_bytes()
+    assert b"<dc:date>" not in first[1].read_bytes()
+    fig.savefig(tmp_path / "c.png", dpi=150)  # matplotlib's default compression
+    ours = np.asarray(Image.open(first[0]))
+    default = np.asarray(Image.open(tmp_path / "c.png"))
+    assert ours.shape == default.shape and (ours == default).all()
+
+
 def test_decimate_keeps_extremes() -> None:
     x = np.linspace(0, 1, 100_000)
     z = np.sin(50 * x)

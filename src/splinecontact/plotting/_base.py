@@ -59,8 +59,11 @@ def figure_of(ax: Axes) -> Figure:
 
 
 def _render(fig: Figure, path: Path, fmt: str, dpi: int) -> None:
-    """One draw of ``fig`` into ``path`` by the canvas of ``fmt`` (Agg for PNG)."""
-    kwargs: dict[str, Any] = {}
+    """One draw of ``fig`` into ``path`` by the canvas of ``fmt`` (Agg for PNG).
+
+    SVG files carry no date and fixed element ids, so the same figure gives the same bytes.
+    """
+    kwargs: dict[str, Any] = {"metadata": {"Date": None}} if fmt == "svg" else {}
     if fmt == "png":
         kwargs["pil_kwargs"] = {"compress_level": _PNG_COMPRESS_LEVEL}
     with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "splinecontact"}):

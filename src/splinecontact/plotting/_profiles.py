@@ -9,6 +9,7 @@ spacings. Curves longer than the figure's pixel resolution are decimated
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from typing import Any
 
@@ -18,7 +19,7 @@ from matplotlib.patches import Circle
 from numpy.typing import NDArray
 
 from ..profile import Profile
-from ..spheres import surface_spheres
+from ..spheres import SurfaceSpheres, surface_spheres
 from ._base import NM_PER_UM, decimate, dimension_colors, new_axes, window
 
 __all__ = [
@@ -120,6 +121,23 @@ def upper_global(fit_lower: Any, fit_upper: Any | None) -> tuple[NDArray[np.floa
     return offset - fit_upper.f, offset
 
 
+def _spheres_in(fit: Any, lo: int, hi: int) -> SurfaceSpheres:
+    """Surface spheres (eqs. 4–6) of the grid points ``lo … hi − 1`` of ``fit`` only.
+
+    Each sphere depends on its own point alone (f, f′, f″ there; r_min = dx/2 of the whole
+    grid), so these are the values over the whole profile, without evaluating 10⁶ points to
+    draw a hundred.
+    """
+    part = dataclasses.replace(
+        fit,
+        x=fit.x[lo:hi],
+        f=fit.f[lo:hi],
+        slope=fit.slope[lo:hi],
+        second_derivative=fit.second_derivative[lo:hi],
+    )
+    return surface_spheres(part, r_min=0.5 * fit.dx)
+
+
 def plot_spheres(
     fit: Any,
     *,
@@ -153,17 +171,19 @@ def plot_spheres(
         _, offset = upper_global(fit, upper_fit)
         bodies.append((upper_fit, -1.0, offset, "C3", "upper"))
     s = NM_PER_UM
+    lo = int(sel[0])
     for body, sign, offset, color, name in bodies:
-        sph = surface_spheres(body)
-        # the sphere arrays are properties computed over the whole profile: evaluate them once
+        sph = _spheres_in(body, lo, int(sel[-1]) + 1)
+        # the sphere arrays are properties: evaluate them once (index j = i − lo)
         curvature, normal_x, normal_z = sph.curvature, sph.normal_x, sph.normal_z
         centre_x, centre_z = sph.centre_x, sph.centre_z
         z = offset + sign * body.f
         ax.plot(body.x[sel] * s, z[sel] * s, color=color, lw=1.5, label=f"{name} spline")
         arrow = 0.06 * width * s
         for i in sel[::every]:
-            k = curvature[i]
-            nx, nz = normal_x[i], sign * normal_z[i]
+            j = i - lo
+            k = curvature[j]
+            nx, nz = normal_x[j], sign * normal_z[j]
             ax.annotate(
                 "",
                 xy=(body.x[i] * s + arrow * nx, z[i] * s + arrow * nz),
@@ -172,8 +192,8 @@ def plot_spheres(
             )
             if k == 0 or 1 / abs(k) > rmax:
                 continue
-            cx = centre_x[i]
-            cz = offset + sign * centre_z[i]
+            cx = centre_x[j]
+            cz = offset + sign * centre_z[j]
             ls = "-" if k > 0 else ":"
             ax.add_patch(
                 Circle(
@@ -288,19 +308,21 @@ def plot_contact_zoom(
         lw=1.5,
         label="upper body" if upper_fit is not None else "rigid flat",
     )
-    sph_l = surface_spheres(lower_fit)
-    sph_u = surface_spheres(upper_fit) if upper_fit is not None else None
     inside = [int(i) for i in record.point if xlim[0] <= lower_fit.x[i] <= xlim[1]]
+    lo, hi = (min(inside), max(inside) + 1) if inside else (0, 0)
+    sph_l = _spheres_in(lower_fit, lo, hi)
+    sph_u = _spheres_in(upper_fit, lo, hi) if upper_fit is not None else None
     kl_all, clx, clz = sph_l.curvature, sph_l.centre_x, sph_l.centre_z
     ku_all = sph_u.curvature if sph_u is not None else None
     cux = sph_u.centre_x if sph_u is not None else None
     cuz = sph_u.centre_z if sph_u is not None else None
     for n, i in enumerate(inside):
-        kl = kl_all[i]
+        j = i - lo  # index into the spheres of points lo … hi − 1
+        kl = kl_all[j]
         if kl != 0:
             ax.add_patch(
                 Circle(
-                    (clx[i] * s, clz[i] * s),
+                    (clx[j] * s, clz[j] * s),
                     s / abs(kl),
                     fill=False,
                     color="red",
@@ -310,12 +332,12 @@ def plot_contact_zoom(
                     else None,
                 )
             )
-        if ku_all is not None and cux is not None and cuz is not None and ku_all[i] != 0:
-            ku = ku_all[i]
-            cz = offset - displacement - cuz[i]
+        if ku_all is not None and cux is not None and cuz is not None and ku_all[j] != 0:
+            ku = ku_all[j]
+            cz = offset - displacement - cuz[j]
             ax.add_patch(
                 Circle(
-                    (cux[i] * s, cz * s),
+                    (cux[j] * s, cz * s),
                     s / abs(ku),
                     fill=False,
                     color="red",
