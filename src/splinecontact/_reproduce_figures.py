@@ -318,9 +318,7 @@ def draw_figures(
     AnalysisError
         The study has nothing to draw.
     """
-    inputs = figure_inputs(
-        ds, illustrative=illustrative, hurst_profiles=hurst_profiles, seed=seed
-    )
+    inputs = figure_inputs(ds, illustrative=illustrative, hurst_profiles=hurst_profiles, seed=seed)
     figures, notes = build_figures(
         ds,
         illustrative=inputs.illustrative,

@@ -1064,8 +1064,8 @@ def reproduce(
     -------
     ReproduceResult
     """
-    from .config import parse_study
     from ._reproduce_figures import draw_figures
+    from .config import parse_study
     from .plotting import write_figures
     from .study import open_study, run_study
 

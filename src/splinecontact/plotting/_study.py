@@ -288,7 +288,6 @@ def plot_force_split(
     return ax
 
 
-
 def _panel_selections(ens: xr.Dataset, hue: str) -> list[tuple[str, dict[str, Any]]]:
     others = [str(d) for d in ens.dims if d not in (hue, "sample", "realization", "load", "boot")]
     if not others:
@@ -449,4 +448,3 @@ def make_study_figures(
     """
     figures = study_figures(ds, measured_hurst=measured_hurst, kappa_options=kappa_options)
     return write_figures(figures, out_dir, overwrite=overwrite)
-
