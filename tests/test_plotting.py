@@ -313,3 +313,81 @@ def test_drawable_study_degenerate_cases(study: xr.Dataset) -> None:
     assert kept.sizes["dimension"] == 1
     figures = plotting.study_figures(kept)
     assert {"fig10", "fig11", "fig12_kappa", "diag_force_split"} <= set(figures)
+
+
+# --- illustrative figures: profiles made once above, handed down -----------------------------
+
+SMALL = {"n_points": 4000, "length": 4.0, "steps": 40}
+
+
+@pytest.fixture(scope="module")
+def counted_inputs() -> tuple[plotting.IllustrativeInputs, int]:
+    import splinecontact.generate as generate
+    from splinecontact._reproduce_figures import illustrative_inputs
+
+    calls = 0
+    original = generate.weierstrass_mandelbrot
+
+    def counting(*args: object, **kwargs: object) -> object:
+        nonlocal calls
+        calls += 1
+        return original(*args, **kwargs)  # type: ignore[arg-type]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(generate, "weierstrass_mandelbrot", counting)
+        inputs = illustrative_inputs(
+            dimensions=(1.2, 1.4, 1.6), params=SMALL, seed=7, study_seed=True
+        )
+    return inputs, calls
+
+
+def test_each_illustrative_profile_is_generated_once(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int],
+) -> None:
+    inputs, calls = counted_inputs
+    # one lower profile per D (the one at the focus D is the pair's lower profile) + the upper
+    assert calls == len(inputs.dimensions) + 1
+    assert inputs.lower is inputs.profiles[inputs.dimensions.index(1.4)]
+    assert [f.alpha for f in inputs.fits] == [1.0, 2.0, 3.0]
+    assert inputs.lower_fit is inputs.fits[1]  # the simulation's α = 2 reused, not refitted
+    assert inputs.record.step == 10 and inputs.displacement > 0
+
+
+def test_illustrative_figures_draw_only_what_they_are_given(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import splinecontact.contact as contact
+    import splinecontact.generate as generate
+    import splinecontact.spline as spline
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise AssertionError("plotting generated, fitted or simulated")
+
+    for module, name in (
+        (generate, "weierstrass_mandelbrot"),
+        (spline, "fit_spline"),
+        (contact, "simulate"),
+    ):
+        monkeypatch.setattr(module, name, refuse)
+    inputs, _ = counted_inputs
+    figures = plotting.illustrative_figures(inputs)
+    assert set(figures) == {
+        "fig03_profiles",
+        "fig04_spline_alpha",
+        "fig05_spheres",
+        "fig08_first_contact",
+        "fig09_contact_zoom",
+    }
+    assert all(isinstance(f, Figure) for f in figures.values())
+    labels = [t.get_text() for t in figures["fig03_profiles"].axes[0].texts]
+    assert labels == ["D = 1.2", "D = 1.4", "D = 1.6"]
+
+
+def test_illustrative_inputs_need_one_profile_per_dimension(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int],
+) -> None:
+    import dataclasses
+
+    inputs, _ = counted_inputs
+    with pytest.raises(ParameterError, match="one profile per dimension"):
+        dataclasses.replace(inputs, dimensions=(1.2, 1.4))
