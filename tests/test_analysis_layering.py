@@ -15,7 +15,7 @@ SRC = Path(splinecontact.__file__).resolve().parent
 
 #: Package stages each of these may not import (the ones above it in the pipeline).
 FORBIDDEN = {
-    "analysis": ("plotting", "plotting_friction", "reproduce", "cli"),
+    "analysis": ("plotting", "reproduce", "cli"),
     "reproduce": ("cli",),
 }
 

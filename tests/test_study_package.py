@@ -89,7 +89,7 @@ def test_study_execution_error_is_public_and_carries_the_summary() -> None:
 
 
 #: Modules above the study stage: the study package never imports them.
-ABOVE_STUDY = {"analysis", "plotting", "plotting_friction", "reproduce", "cli"}
+ABOVE_STUDY = {"analysis", "plotting", "reproduce", "cli"}
 
 
 def _imports(file: Path, level: int) -> set[str]:

@@ -195,8 +195,9 @@ def reproduce(
     -------
     ReproduceResult
     """
-    from ..plotting import build_figures, write_figures
+    from ..plotting import write_figures
     from ..study import open_study, parse_study, run_study
+    from .figures import draw_figures
 
     t0 = time.perf_counter()
     config = parse_study(study_mapping(scale))
@@ -212,7 +213,7 @@ def reproduce(
     study_time = time.perf_counter() - t1
     ds = open_study(store)
     t2 = time.perf_counter()
-    figs, hurst, notes = build_figures(
+    figs, hurst, notes = draw_figures(
         ds, kappa_options=kappa_options, hurst_profiles=hurst_profiles
     )
     figures = write_figures(figs, folder, prefix="figures/")
