@@ -697,8 +697,8 @@ def read_body(
     With two files, the reader's option hints name the option that reaches the body at hand
     (``--upper-line``/``--upper-unit`` for the upper file).
     """
+    from ..errors import ReadOptionError
     from ..io import read_profile
-    from ..io._errors import ReadOptionError
 
     read = reading.upper_read if upper else reading.read
     preprocessing = reading.upper_preprocessing if upper else reading.preprocessing

@@ -8,11 +8,12 @@ line by line with a bound on the length of a line.
 
 from __future__ import annotations
 
+import math
 import numbers
 from pathlib import Path
 from typing import IO
 
-from ._errors import CorruptFileError, FileTooLargeError, ReadOptionError
+from ..errors import CorruptFileError, FileTooLargeError, MissingSpacingError, ReadOptionError
 
 __all__ = [
     "DEFAULT_MAX_POINTS",
@@ -22,6 +23,7 @@ __all__ = [
     "check_points",
     "one_line",
     "read_exact",
+    "required_spacing",
 ]
 
 #: Points per file the readers accept by default (``max_points=`` raises it): 10⁸, far above
@@ -61,6 +63,25 @@ def check_points(path: Path, n_points: int, max_points: int, what: str) -> None:
             f"{path}: {what} has {n_points:,} points, more than the limit of {max_points:,} "
             "points per file; if the scan is genuine, pass a larger max_points= to read_profile"
         )
+
+
+def required_spacing(path: Path, spacing: float | None, missing: str) -> float:
+    """The grid spacing [µm] that heights without positions need, checked.
+
+    Raises
+    ------
+    MissingSpacingError
+        ``spacing`` is None; the message is ``missing`` (what the file lacks) and the option.
+    ReadOptionError
+        ``spacing`` is not a positive finite length.
+    """
+    if spacing is None:
+        raise MissingSpacingError(
+            f"{path}: {missing}; pass the grid spacing spacing= [µm] (CLI --spacing)"
+        )
+    if not (math.isfinite(spacing) and spacing > 0):
+        raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+    return spacing
 
 
 def read_exact(path: Path, stream: IO[bytes], size: int, what: str) -> bytes:

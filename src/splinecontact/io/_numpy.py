@@ -24,17 +24,16 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import NumpyFileError
-from ..preprocess import RawProfile
-from ._errors import (
+from ..errors import (
     CorruptFileError,
     LineSelectionError,
-    MissingSpacingError,
     MissingUnitsError,
+    NumpyFileError,
     ReadOptionError,
     UnitError,
 )
-from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact
+from ..preprocess import RawProfile
+from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact, required_spacing
 from ._stored import MAX_STORED_CHARS, parse_stored_metadata
 from ._units import UNIT_FACTORS, normalize_unit
 from ._x3p import ZIP_ERRORS
@@ -181,13 +180,7 @@ def _heights(
         raise NumpyFileError(f"{path}: heights of shape {z.shape}; expected (N,) or (ny, nx)")
     elif line is not None:
         raise LineSelectionError(f"{path}: line= is only for areal data; this file is a profile")
-    if spacing is None:
-        raise MissingSpacingError(
-            f"{path}: heights without positions; pass the grid spacing spacing= [µm] "
-            "(CLI --spacing)"
-        )
-    if not (np.isfinite(spacing) and spacing > 0):
-        raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+    required_spacing(path, spacing, "heights without positions")
     return np.asarray(z, dtype=np.float64), line
 
 

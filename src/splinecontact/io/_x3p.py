@@ -29,9 +29,8 @@ from xml.parsers import expat
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import DamagedX3PError
+from ..errors import DamagedX3PError, FileTooLargeError, LineSelectionError, X3PError
 from ..preprocess import RawProfile
-from ._errors import FileTooLargeError, LineSelectionError, X3PError
 from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
 
 __all__ = ["DamagedX3PError", "read_x3p"]
