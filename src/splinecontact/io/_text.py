@@ -568,6 +568,7 @@ def _stored_metadata(path: Path, text: str | None) -> Mapping[str, Any] | None:
     return parse_stored_metadata(path, text, where=f"the {METADATA_COMMENT!r} comment")
 
 
+@np.errstate(over="ignore", invalid="ignore")
 def _table_to_raw(
     path: Path,
     table: _Table,
@@ -581,30 +582,6 @@ def _table_to_raw(
 ) -> RawProfile:
     """The raw profile of a parsed table (a value overflowing on unit conversion becomes inf,
     an undefined point, without a RuntimeWarning)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        return _table_columns_to_raw(
-            path,
-            table,
-            fmt=fmt,
-            unit=unit,
-            height_unit=height_unit,
-            spacing=spacing,
-            line=line,
-            extra=extra,
-        )
-
-
-def _table_columns_to_raw(
-    path: Path,
-    table: _Table,
-    *,
-    fmt: str,
-    unit: str | None,
-    height_unit: str | None,
-    spacing: float | None,
-    line: int | None,
-    extra: dict[str, Any] | None,
-) -> RawProfile:
     columns = table.columns
     n_columns = len(columns)
     n_rows = table.values.shape[0]
