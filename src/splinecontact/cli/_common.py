@@ -321,6 +321,14 @@ MaxPointsOpt = Annotated[
         rich_help_panel=PANEL_READ,
     ),
 ]
+#: Model parameters that several commands take with the same name and help.
+EStarOpt = Annotated[float, typer.Option("--e-star", help="Effective modulus E* [GPa].")]
+GStarOpt = Annotated[
+    float | None,
+    typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
+]
+Mu0Opt = Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")]
+X0Opt = Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")]
 OverwriteOpt = Annotated[
     bool,
     typer.Option("--overwrite", help="Replace an existing output (never an input)."),

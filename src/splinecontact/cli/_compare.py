@@ -17,6 +17,7 @@ import typer
 from ..errors import ParameterError
 from ._common import (
     BODY_SPEC_HELP,
+    EStarOpt,
     OverwriteOpt,
     ProfileReading,
     QuietOpt,
@@ -83,7 +84,7 @@ def register(app: typer.Typer) -> None:
                 "-o", "--output", help="Folder to write compare.csv (units in header) and .png."
             ),
         ] = Path("compare"),
-        e_star: Annotated[float, typer.Option(help="Effective modulus E* [GPa].")] = 10.0,
+        e_star: EStarOpt = 10.0,
         steps: Annotated[int, typer.Option(help="SAD displacement steps.")] = 1000,
         final_displacement_factor: Annotated[
             float, typer.Option(help="SAD final displacement / peak-to-valley height.")

@@ -9,6 +9,9 @@ from typing import Annotated
 import typer
 
 from ._common import (
+    EStarOpt,
+    GStarOpt,
+    Mu0Opt,
     OverwriteOpt,
     ProfileReading,
     handle_errors,
@@ -50,14 +53,9 @@ def register(app: typer.Typer) -> None:
         upper: Annotated[
             str, typer.Option("--upper", help="Upper body: FILE, flat or generated:D=..,seed=..")
         ] = "flat",
-        e_star: Annotated[
-            float, typer.Option("--e-star", help="Effective modulus E* [GPa].")
-        ] = 10.0,
-        g_star: Annotated[
-            float | None,
-            typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
-        ] = None,
-        mu0: Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")] = 0.3,
+        e_star: EStarOpt = 10.0,
+        g_star: GStarOpt = None,
+        mu0: Mu0Opt = 0.3,
         alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1].")] = 2.0,
         x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm].")] = 1.0,
         overwrite: OverwriteOpt = False,

@@ -17,8 +17,12 @@ from ..errors import OutputWriteError, ParameterError, ProfileReadError
 from ._common import (
     BODY_SPEC_HELP,
     BodySpec,
+    EStarOpt,
+    GStarOpt,
+    Mu0Opt,
     OverwriteOpt,
     ProfileReading,
+    X0Opt,
     handle_errors,
     load_bodies,
     parse_body_spec,
@@ -149,14 +153,11 @@ def simulate_command(
             help="Final displacement [µm] (default: 0.2 × the lower peak-to-valley height).",
         ),
     ] = None,
-    e_star: Annotated[float, typer.Option("--e-star", help="Effective modulus E* [GPa].")] = 10.0,
-    g_star: Annotated[
-        float | None,
-        typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
-    ] = None,
-    mu0: Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")] = 0.3,
+    e_star: EStarOpt = 10.0,
+    g_star: GStarOpt = None,
+    mu0: Mu0Opt = 0.3,
     alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1] (eq. 3).")] = 2.0,
-    x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")] = 1.0,
+    x0: X0Opt = 1.0,
     overwrite: OverwriteOpt = False,
     *,
     reading_options: Callable[[], ProfileReading],
@@ -221,7 +222,7 @@ def inspect_command(
     alpha: Annotated[
         float, typer.Option("--alpha", help="Spline tightness α [1] (eq. 3), 0 < α < 3.")
     ] = 2.0,
-    x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")] = 1.0,
+    x0: X0Opt = 1.0,
     *,
     reading_options: Callable[[], ProfileReading],
 ) -> None:
