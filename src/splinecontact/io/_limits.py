@@ -10,10 +10,17 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
-from ..errors import CorruptFileError, FileTooLargeError, MissingSpacingError, ReadOptionError
+from ..errors import (
+    CorruptFileError,
+    FileTooLargeError,
+    MissingSpacingError,
+    ProfileReadError,
+    ReadOptionError,
+)
 
 __all__ = [
     "DEFAULT_MAX_POINTS",
@@ -22,6 +29,7 @@ __all__ = [
     "check_max_points",
     "check_points",
     "one_line",
+    "read_chunks",
     "read_exact",
     "required_spacing",
 ]
@@ -84,26 +92,38 @@ def required_spacing(path: Path, spacing: float | None, missing: str) -> float:
     return spacing
 
 
-def read_exact(path: Path, stream: IO[bytes], size: int, what: str) -> bytes:
-    """Read exactly ``size`` bytes from a stream that must end there; refuse anything else.
+def read_chunks(
+    path: Path,
+    stream: IO[bytes],
+    size: int,
+    what: str,
+    *,
+    error: type[ProfileReadError] = CorruptFileError,
+    declared: str = "declared",
+) -> Iterator[bytes]:
+    """Yield exactly ``size`` bytes of a stream that must end there, in chunks; refuse anything
+    else with ``error`` (the excess message says the size was ``declared``).
 
-    The stream is read in chunks, so a member whose declared size lies (a zip bomb) is refused
-    after at most ``size`` + 1 bytes. Reading the end of a zip member also checks its CRC.
+    A member whose declared size lies (a zip bomb) is refused after at most ``size`` + 1 bytes.
+    Reading the end of a zip member also checks its CRC.
     """
-    parts: list[bytes] = []
     got = 0
     while got < size:
         chunk = stream.read(min(_CHUNK, size - got))
         if not chunk:
-            raise CorruptFileError(
+            raise error(
                 f"{path}: {what} ends after {got:,} bytes but {size:,} were declared; the file "
                 "is truncated or damaged"
             )
-        parts.append(chunk)
+        yield chunk
         got += len(chunk)
     if stream.read(1):
-        raise CorruptFileError(
-            f"{path}: {what} holds more than the {size:,} bytes declared; the file is damaged "
+        raise error(
+            f"{path}: {what} holds more than the {size:,} bytes {declared}; the file is damaged "
             "or forged"
         )
-    return b"".join(parts)
+
+
+def read_exact(path: Path, stream: IO[bytes], size: int, what: str) -> bytes:
+    """Read exactly ``size`` bytes from a stream that must end there (:func:`read_chunks`)."""
+    return b"".join(read_chunks(path, stream, size, what))

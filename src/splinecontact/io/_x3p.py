@@ -38,13 +38,19 @@ from ..errors import (
     X3PError,
 )
 from ..preprocess import RawProfile
-from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
+from ._limits import (
+    DEFAULT_MAX_POINTS,
+    MAX_XML_BYTES,
+    check_points,
+    one_line,
+    read_chunks,
+    read_exact,
+)
 
 __all__ = ["ZIP_ERRORS", "DamagedX3PError", "open_zip", "read_x3p"]
 
 _DTYPES = {"I": "<u2", "L": "<u4", "F": "<f4", "D": "<f8"}  # I, L unsigned (openGPS)
 _METRE_TO_UM = 1e6
-_CHUNK = 1 << 20
 #: Errors of the zip and zlib modules on damaged archives (wrapped in DamagedX3PError).
 ZIP_ERRORS = (
     zipfile.BadZipFile,
@@ -198,24 +204,16 @@ def _stream_rows(
     """Read a member of ``size`` bytes in chunks, hash all of it, keep bytes ``keep[0]:keep[1]``."""
     kept = bytearray()
     pos = 0
-    while pos < size:
-        chunk = stream.read(min(_CHUNK, size - pos))
-        if not chunk:
-            raise DamagedX3PError(
-                f"{path}: {what} ends after {pos:,} bytes but {size:,} were declared; the file "
-                "is truncated or damaged"
-            )
+    chunks = read_chunks(
+        path, stream, size, what, error=DamagedX3PError, declared="its directory entry declares"
+    )
+    for chunk in chunks:
         if md5 is not None:
             md5.update(chunk)
         lo, hi = max(keep[0], pos), min(keep[1], pos + len(chunk))
         if lo < hi:
             kept += chunk[lo - pos : hi - pos]
         pos += len(chunk)
-    if stream.read(1):
-        raise DamagedX3PError(
-            f"{path}: {what} holds more than the {size:,} bytes its directory entry declares; "
-            "the file is damaged or forged"
-        )
     return bytes(kept)
 
 
