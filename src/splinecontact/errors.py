@@ -126,3 +126,17 @@ class OutputExistsError(OutputError):
 
 class UnsafeOutputError(OutputError):
     """Writing there could destroy something splinecontact did not create (or an input)."""
+
+
+# --- contact stage (load paths) -------------------------------------------------------------
+
+
+class LoadPathError(ParameterError):
+    """A load path or one of its segments is malformed."""
+
+
+class ForceControlError(LoadPathError):
+    """A force-controlled segment asks for a normal force the contact cannot carry."""
+
+
+__all__ += ["ForceControlError", "LoadPathError"]

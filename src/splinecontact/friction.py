@@ -307,9 +307,8 @@ def friction_study(
     import xarray as xr
 
     from .analysis import confidence_halfwidth
-    from .contact import simulate
+    from .contact import Segment, simulate
     from .generate import weierstrass_mandelbrot_pair
-    from .loadpath import Segment
 
     dims = [float(d) for d in dimensions]
     seed_list = [int(s) for s in seeds]

@@ -230,7 +230,7 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     sim = {k: parameters[k] for k in _SIMULATE_KEYS}
     segments = parameters.get("path")
     if segments is not None:
-        from .loadpath import Segment
+        from .contact import Segment
 
         for name in PATH_REPLACES:
             sim.pop(name, None)

@@ -26,12 +26,14 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _path_kernel as _k
-from .errors import ParameterError
-from .profile import Profile
-from .results import ContactRecord, SimulationResult
-from .spheres import own_frame_geometry
-from .spline import SplineFit, fit_spline
+from ..errors import ForceControlError, LoadPathError, ParameterError
+from ..profile import Profile, surface_statistics
+from ..results import ContactRecord, SimulationResult
+from ..spheres import own_frame_geometry
+from ..spline import SplineFit, fit_spline
+from . import path_kernel as _k
+from .geometry import contact_geometry
+from .laws import ContactLaw, Hertz, check_law, new_law_state
 
 __all__ = [
     "ForceControlError",
@@ -54,14 +56,6 @@ _PER_SUPER = 16
 
 #: Tangential travel [grid spacings] served by one candidate list.
 _CHUNK_CELLS = 48
-
-
-class LoadPathError(ParameterError):
-    """A load path or one of its segments is malformed."""
-
-
-class ForceControlError(LoadPathError):
-    """A force-controlled segment asks for a normal force the contact cannot carry."""
 
 
 def _finite(name: str, value: Any, unit: str, index: int | None) -> float:
@@ -163,62 +157,61 @@ def validate_path(path: Iterable[Segment]) -> tuple[Segment, ...]:
 
 @dataclass(frozen=True, eq=False)
 class _Geometry:
-    f_l: NDArray[np.float64]
-    kappa_l: NDArray[np.float64]
-    nl_x: NDArray[np.float64]
-    nl_z: NDArray[np.float64]
-    f_u: NDArray[np.float64]
-    gamma_u: NDArray[np.float64]
-    slope_u: NDArray[np.float64]
-    curv_u: NDArray[np.float64]
-    envelope: NDArray[np.float64]
-    f_l_block: NDArray[np.float64]
-    envelope_block: NDArray[np.float64]
-    f_l_super: NDArray[np.float64]
-    envelope_super: NDArray[np.float64]
-    flat: bool
-    placement: float
-    dx: float
-    kappa_max: float
-    margin: float
+    surf: _k.Surfaces
+    cull: _k.Culling
     scale: float
 
 
 class _State:
-    """Spring state (per grid cell) and scratch arrays of one path run."""
+    """Spring state (per grid cell), law state and scratch arrays of one path run."""
 
-    def __init__(self, n: int) -> None:
-        self.acc = np.zeros(n, dtype=np.bool_)
-        self.ft = np.zeros(n)
-        self.xc = np.zeros(n)
-        self.ex = np.zeros(n)
-        self.ez = np.zeros(n)
-        self.list = np.zeros(n, dtype=np.int64)
-        self.count = np.zeros(1, dtype=np.int64)
-        self.claimed = np.zeros(n, dtype=np.bool_)
+    def __init__(self, n: int, law: ContactLaw, e_star: float, g_star: float, mu0: float) -> None:
+        self.springs = _k.Springs(
+            acc=np.zeros(n, dtype=np.bool_),
+            ft=np.zeros(n),
+            xc=np.zeros(n),
+            ex=np.zeros(n),
+            ez=np.zeros(n),
+            list=np.zeros(n, dtype=np.int64),
+            count=np.zeros(1, dtype=np.int64),
+            claimed=np.zeros(n, dtype=np.bool_),
+        )
+        self.material = _k.Material(
+            law_code=law.code,
+            law_params=law.kernel_parameters(e_star),
+            law_state=new_law_state(law, n),
+            reach=float(law.reach),
+            g_star=float(g_star),
+            mu0=float(mu0),
+        )
         self.cand_idx = np.empty(n, dtype=np.int64)
         self.cand_bound = np.empty(n)
         self.capacity = 0
-        self.scratch: tuple[NDArray[Any], ...] = ()
+        self.scratch = _scratch(0)
         self.ensure(16)
 
     def ensure(self, capacity: int) -> None:
         if capacity <= self.capacity:
             return
         self.capacity = capacity
-        self.scratch = (
-            np.empty(capacity, dtype=np.int64),  # idx
-            np.empty(capacity),  # fn
-            np.empty(capacity),  # ex
-            np.empty(capacity),  # ez
-            np.empty(capacity),  # xc
-            np.empty(capacity),  # z
-            np.empty(capacity),  # delta
-            np.empty(capacity),  # reff
-            np.empty(capacity),  # ft
-            np.empty(capacity, dtype=np.bool_),  # slip
-            np.empty(capacity, dtype=np.int64),  # src
-        )
+        self.scratch = _scratch(capacity)
+
+
+def _scratch(capacity: int) -> _k.Scratch:
+    return _k.Scratch(
+        idx=np.empty(capacity, dtype=np.int64),
+        fn=np.empty(capacity),
+        ex=np.empty(capacity),
+        ez=np.empty(capacity),
+        xc=np.empty(capacity),
+        z=np.empty(capacity),
+        delta=np.empty(capacity),
+        reff=np.empty(capacity),
+        ft=np.empty(capacity),
+        slip=np.empty(capacity, dtype=np.bool_),
+        src=np.empty(capacity, dtype=np.int64),
+        width=np.empty(capacity),
+    )
 
 
 class _Candidates:
@@ -231,12 +224,10 @@ class _Candidates:
     def __init__(self, geo: _Geometry, state: _State, u: float, d_max: float) -> None:
         self.u = u
         self.d_max = d_max
-        centre = math.floor(-u / geo.dx)
+        centre = math.floor(-u / geo.surf.dx)
         count = _k.candidate_bounds(
-            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super,
-            geo.envelope_super, _PER_SUPER, geo.flat, centre - 1, centre + 1,
-            geo.placement - d_max, geo.margin,
-            state.cand_idx, state.cand_bound,
+            geo.surf, geo.cull, centre - 1, centre + 1,
+            geo.surf.placement - d_max - state.material.reach, state.cand_idx, state.cand_bound,
         )  # fmt: skip
         self.idx = state.cand_idx[:count]
         self.bound = state.cand_bound[:count]
@@ -265,7 +256,7 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
     scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
     f_l_block = _k.block_max(f_l, _BLOCK)
     envelope_block = _k.block_max(envelope, _BLOCK)
-    return _Geometry(
+    surf = _k.Surfaces(
         f_l=f_l,
         kappa_l=kappa_l,
         nl_x=nl_x,
@@ -274,18 +265,22 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         gamma_u=gamma_u,
         slope_u=slope_u,
         curv_u=curv_u,
-        envelope=envelope,
-        f_l_block=f_l_block,
-        envelope_block=envelope_block,
-        f_l_super=_k.block_max(f_l_block, _PER_SUPER),
-        envelope_super=_k.block_max(envelope_block, _PER_SUPER),
         flat=flat,
         placement=placement,
         dx=dx,
         kappa_max=1.0 / r_min,
-        margin=1e-12 * scale,
-        scale=scale,
     )
+    cull = _k.Culling(
+        f_l_block=f_l_block,
+        envelope=envelope,
+        envelope_block=envelope_block,
+        block=_BLOCK,
+        f_l_super=_k.block_max(f_l_block, _PER_SUPER),
+        envelope_super=_k.block_max(envelope_block, _PER_SUPER),
+        per_super=_PER_SUPER,
+        margin=1e-12 * scale,
+    )
+    return _Geometry(surf=surf, cull=cull, scale=scale)
 
 
 def _step(
@@ -297,26 +292,18 @@ def _step(
     du: float,
     dd: float,
     commit: bool,
-    material: tuple[float, float, float],
-) -> tuple[Any, ...]:
-    e_star, g_star, mu0 = material
+) -> _k.StepSums:
     state.ensure(cands.idx.size + 1)
-    reach = 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / geo.dx), geo.f_l.size))
+    migrate = _k.migrate_cells_of(du, dd, geo.surf.dx, geo.surf.f_l.size)
     return _k.path_step(
-        u, d, du, dd, commit,
-        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
-        geo.curv_u, geo.flat,
-        geo.placement, geo.dx, geo.kappa_max, cands.idx, cands.bound, False,
-        e_star, g_star, mu0, reach,
-        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
-        state.claimed, *state.scratch,
+        u, d, du, dd, commit, geo.surf, cands.idx, cands.bound, False, state.material, migrate,
+        state.springs, state.scratch,
     )  # fmt: skip
 
 
 def _run(
     geo: _Geometry,
     state: _State,
-    material: tuple[float, float, float],
     u_a: float,
     d_a: float,
     u_b: float,
@@ -330,33 +317,16 @@ def _run(
     row: int,
 ) -> None:
     """Compiled steps s_first … s_last of a displacement-controlled segment into ``table``."""
-    e_star, g_star, mu0 = material
-    state.ensure(geo.f_l.size)
-    args: tuple[Any, ...] = (
+    state.ensure(geo.surf.f_l.size)
+    _k.run_steps(
         u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
-        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
-        geo.curv_u, geo.flat, geo.placement, geo.dx, geo.kappa_max, geo.f_l_block,
-        geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super, geo.envelope_super, _PER_SUPER,
-        geo.margin, state.cand_idx, state.cand_bound,
-        e_star, g_star, mu0,
-        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
-        state.claimed, *state.scratch, table, row,
+        geo.surf, geo.cull, state.cand_idx, state.cand_bound, state.material, state.springs,
+        state.scratch, table, row,
     )  # fmt: skip
-    _k.run_steps(*args)
 
 
-_NAMES = (
-    "normal_force",
-    "tangential_force",
-    "contact_area",
-    "n_contacts",
-    "n_slipping",
-    "step_work",
-    "normal_force_normal_part",
-    "normal_force_tangential_part",
-    "n_tilted_contacts",
-    "n_candidates",
-)
+#: The per-step sums of :func:`.path_kernel.path_step`, in table column order.
+_NAMES = _k.StepSums._fields
 
 
 def _solve_force(
@@ -440,6 +410,7 @@ def run_path(
     alpha: float,
     x0: float,
     record_steps: NDArray[np.int64] | None = None,
+    law: ContactLaw | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Follow a load path (the engine of ``simulate(..., path=...)``).
 
@@ -459,6 +430,8 @@ def run_path(
         Spline parameters α [1], x0 [µm].
     record_steps : array of int, optional
         Steps at which to keep the accepted contacts.
+    law : ContactLaw, optional
+        Local normal contact law (default :class:`.laws.Hertz`).
 
     Returns
     -------
@@ -466,55 +439,55 @@ def run_path(
         Per-step arrays (``STEP_VARIABLES`` and ``PATH_STEP_VARIABLES``) and recorded contacts.
     """
     segments = validate_path(path)
+    law = Hertz() if law is None else check_law(law)
     if fits is None:
         fit_l = fit_spline(lower, alpha=alpha, x0=x0)
         fit_u = None if isinstance(upper, str) else fit_spline(upper, alpha=alpha, x0=x0)
     else:
         fit_l, fit_u = fits
     geo = _prepare(lower, fit_l, fit_u)
-    n = geo.f_l.size
+    n = geo.surf.f_l.size
     total = 1 + sum(s.steps for s in segments)
     target = np.full(total, np.nan)
     record = np.zeros(total, dtype=np.bool_)
     if record_steps is not None and len(record_steps):
         record[record_steps] = True
     contacts: list[ContactRecord] = []
-    material = (e_star, g_star, mu0)
-    state = _State(n)
-    dx = geo.dx
+    state = _State(n, law, e_star, g_star, mu0)
+    dx = geo.surf.dx
 
-    # Per step: δ_N, u_T and the sums of _path_kernel.path_step (see _NAMES).
+    # Per step: δ_N, u_T and the sums of path_kernel.path_step (see _NAMES).
     table = np.zeros((total, 2 + len(_NAMES)))
 
     def store_contacts(k: int, m: int) -> None:
         s = state.scratch
-        idx = s[0][:m].copy()
+        idx = s.idx[:m].copy()
         contacts.append(
             ContactRecord(
                 step=k,
                 point=idx,
-                x=lower.x[idx] + (s[4][:m] - idx * dx),
-                z=s[5][:m].copy(),
-                overlap=s[6][:m].copy(),
-                effective_radius=s[7][:m].copy(),
-                normal_force=s[1][:m].copy(),
-                tangential_force=s[8][:m].copy(),
-                normal_x=s[2][:m].copy(),
-                normal_z=s[3][:m].copy(),
-                slipping=s[9][:m].copy(),
+                x=lower.x[idx] + (s.xc[:m] - idx * dx),
+                z=s.z[:m].copy(),
+                overlap=s.delta[:m].copy(),
+                effective_radius=s.reff[:m].copy(),
+                normal_force=s.fn[:m].copy(),
+                tangential_force=s.ft[:m].copy(),
+                normal_x=s.ex[:m].copy(),
+                normal_z=s.ez[:m].copy(),
+                slipping=s.slip[:m].copy(),
             )
         )
 
-    def store(k: int, d: float, u: float, values: tuple[Any, ...]) -> None:
+    def store(k: int, d: float, u: float, values: _k.StepSums) -> None:
         table[k, 0] = d
         table[k, 1] = u
         table[k, 2:] = values
         if record[k]:
-            store_contacts(k, int(values[3]))
+            store_contacts(k, int(values.n_contacts))
 
     # Step 0: zero minimum gap, no shift.
     first = _Candidates(geo, state, 0.0, 0.0)
-    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True, material))
+    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True))
     k = 0
     u_cur = 0.0
     d_cur = 0.0
@@ -535,7 +508,7 @@ def run_path(
                     s_last = s
                 else:
                     s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
-                _run(geo, state, material, u_a, d_a, u_b, d_target, n_steps, s, s_last,
+                _run(geo, state, u_a, d_a, u_b, d_target, n_steps, s, s_last,
                      u_cur, d_cur, table, k + s)  # fmt: skip
                 if record[k + s_last]:
                     store_contacts(k + s_last, int(table[k + s_last, 5]))
@@ -554,12 +527,12 @@ def run_path(
                 nonlocal cands
                 if trial > cands.d_max:
                     cands = _Candidates(geo, state, _u, trial + margin)
-                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False, material)
+                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False)
 
             d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
             if d > cands.d_max:
                 cands = _Candidates(geo, state, u, d + margin)
-            values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
+            values = _step(geo, cands, state, u, d, du, d - d_cur, True)
             target[k + 1] = force
             k += 1
             store(k, d, u, values)
@@ -614,14 +587,15 @@ def simulate_path(
     alpha: float,
     x0: float,
     record_contacts: Iterable[int] | str | None,
+    law: ContactLaw | None = None,
 ) -> SimulationResult:
     """``simulate(lower, upper, path=...)`` with validated material parameters.
 
     Parameters are those of :func:`splinecontact.simulate` (E*, G* [GPa], μ0 [1], α [1],
-    x0 [µm]); ``steps`` must keep its default 1000 and ``final_displacement`` must be ``None``
-    (the path's segments set both).
+    x0 [µm], the contact law); ``steps`` must keep its default 1000 and
+    ``final_displacement`` must be ``None`` (the path's segments set both).
     """
-    from .contact import _record_steps, contact_geometry
+    from .simulation import _record_steps
 
     segments = validate_path(path)
     if final_displacement is not None:
@@ -637,20 +611,26 @@ def simulate_path(
     flat = isinstance(upper, str)
     if flat and upper != "flat":
         raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'")
-    reach = max(
+    extent = max(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
     fit_l = fit_spline(lower, alpha=alpha, x0=x0)
     fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
-    geometry, stats = contact_geometry(
-        lower, upper, steps=1, final_displacement=max(reach, lower.dx),
+    geometry = contact_geometry(
+        lower, upper, steps=1, final_displacement=max(extent, lower.dx),
         final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
     )  # fmt: skip
+    stats = surface_statistics(
+        lower,
+        None if flat else upper,
+        fit_l.slope,
+        None if fit_u is None else fit_u.slope,  # type: ignore[arg-type]
+    )
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
         lower, upper, segments, fits=(fit_l, fit_u), e_star=e_star, g_star=g_star, mu0=mu0,
-        alpha=alpha, x0=x0, record_steps=record_steps,
+        alpha=alpha, x0=x0, record_steps=record_steps, law=law,
     )  # fmt: skip
     curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
     final = float(curves["displacement"][-1])

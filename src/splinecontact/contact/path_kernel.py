@@ -21,13 +21,114 @@ these are exactly the fitted f, f′ and f″ at the knots.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import NamedTuple
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-_QUARTER_PI = 0.25 * math.pi
+from .geometry import contact_centre_height, sphere_contact
+from .laws import commit_law, normal_law, tangential_spring
+
+__all__ = [
+    "Culling",
+    "Material",
+    "Scratch",
+    "Springs",
+    "StepSums",
+    "Surfaces",
+    "block_max",
+    "candidate_bounds",
+    "interval_envelope",
+    "path_step",
+    "run_steps",
+]
+
+
+class Surfaces(NamedTuple):
+    """The two bodies on the lower grid (n points) and the upper spline's knots."""
+
+    f_l: NDArray[np.float64]  # lower smoothed heights [µm]
+    kappa_l: NDArray[np.float64]  # lower own-frame curvature [1/µm] (clamped)
+    nl_x: NDArray[np.float64]  # lower outward normal [1]
+    nl_z: NDArray[np.float64]
+    f_u: NDArray[np.float64]  # upper spline knot values [µm]
+    gamma_u: NDArray[np.float64]  # upper second differences f″·dx² [µm]
+    slope_u: NDArray[np.float64]  # upper f′ at the knots [1]
+    curv_u: NDArray[np.float64]  # upper f″ at the knots [1/µm]
+    flat: bool  # rigid flat upper body
+    placement: float  # C: zero minimum gap at δ_N = 0, u_T = 0 [µm]
+    dx: float  # grid spacing [µm]
+    kappa_max: float  # 1/r_min [1/µm]
+
+
+class Culling(NamedTuple):
+    """Block maxima for the candidate culling of :func:`candidate_bounds`."""
+
+    f_l_block: NDArray[np.float64]
+    envelope: NDArray[np.float64]
+    envelope_block: NDArray[np.float64]
+    block: int
+    f_l_super: NDArray[np.float64]
+    envelope_super: NDArray[np.float64]
+    per_super: int
+    margin: float  # rounding margin of the bounds [µm]
+
+
+class Material(NamedTuple):
+    """The contact law (see :mod:`.laws`) and the tangential spring of eqs. 11–13."""
+
+    law_code: int
+    law_params: NDArray[np.float64]  # [E* [GPa], *law parameters]
+    law_state: NDArray[np.float64]  # (n points, n_state), persists across steps
+    reach: float  # gap [µm] at which the law starts to act (0 for Hertz)
+    g_star: float  # G* [GPa]
+    mu0: float  # μ0 [1]
+
+
+class Springs(NamedTuple):
+    """Spring state per lower grid cell (the committed contacts) and the migration flags."""
+
+    acc: NDArray[np.bool_]  # cell holds a committed contact
+    ft: NDArray[np.float64]  # its spring force [mN/µm]
+    xc: NDArray[np.float64]  # its centre x [µm]
+    ex: NDArray[np.float64]  # its repulsive direction [1]
+    ez: NDArray[np.float64]
+    list: NDArray[np.int64]  # the committed cells
+    count: NDArray[np.int64]  # how many (one value)
+    claimed: NDArray[np.bool_]  # scratch of the migration
+
+
+class Scratch(NamedTuple):
+    """The accepted contacts of one configuration (valid until the next call)."""
+
+    idx: NDArray[np.int64]  # lower grid index
+    fn: NDArray[np.float64]  # normal force [mN/µm]
+    ex: NDArray[np.float64]  # repulsive direction [1]
+    ez: NDArray[np.float64]
+    xc: NDArray[np.float64]  # centre x [µm]
+    z: NDArray[np.float64]  # centre z [µm]
+    delta: NDArray[np.float64]  # overlap [µm]
+    reff: NDArray[np.float64]  # effective radius [µm]
+    ft: NDArray[np.float64]  # tangential force [mN/µm]
+    slip: NDArray[np.bool_]  # slipping
+    src: NDArray[np.int64]  # previous cell continued (−1: new contact)
+    width: NDArray[np.float64]  # contact half-width [µm] (share of A_S)
+
+
+class StepSums(NamedTuple):
+    """Global sums of one configuration (eq. 14 and the path outputs)."""
+
+    normal_force: float
+    tangential_force: float
+    contact_area: float
+    n_contacts: int
+    n_slipping: int
+    step_work: float
+    normal_force_normal_part: float
+    normal_force_tangential_part: float
+    n_tilted_contacts: int
+    n_candidates: int
 
 
 @numba.njit(cache=True, nogil=True)
@@ -65,19 +166,11 @@ def block_max(values: NDArray[np.float64], block: int) -> NDArray[np.float64]:  
 
 @numba.njit(cache=True, nogil=True)
 def candidate_bounds(
-    f_l: NDArray[np.float64],
-    f_l_block: NDArray[np.float64],
-    envelope: NDArray[np.float64],
-    envelope_block: NDArray[np.float64],
-    block: int,
-    f_l_super: NDArray[np.float64],
-    envelope_super: NDArray[np.float64],
-    per_super: int,
-    flat: bool,
+    surf: Surfaces,
+    cull: Culling,
     offset_lo: int,
     offset_hi: int,
     threshold: float,
-    margin: float,
     out_idx: NDArray[np.int64],
     out_bound: NDArray[np.float64],
 ) -> int:  # pragma: no cover - compiled
@@ -90,6 +183,16 @@ def candidate_bounds(
     with their maxima (``f_l_super``, ``envelope_super``: maxima of ``per_super`` consecutive
     block maxima), so the cost is O(n/(block·per_super)) plus the blocks near contact.
     """
+    f_l = surf.f_l
+    flat = surf.flat
+    f_l_block = cull.f_l_block
+    envelope = cull.envelope
+    envelope_block = cull.envelope_block
+    block = cull.block
+    f_l_super = cull.f_l_super
+    envelope_super = cull.envelope_super
+    per_super = cull.per_super
+    margin = cull.margin
     n = f_l.size
     count = 0
     nb = f_l_block.size
@@ -166,159 +269,50 @@ def candidate_bounds(
 
 
 @numba.njit(cache=True, nogil=True)
-def path_step(
-    u: float,
-    d: float,
-    du: float,
-    dd: float,
-    commit: bool,
-    f_l: NDArray[np.float64],
-    kappa_l: NDArray[np.float64],
-    nl_x: NDArray[np.float64],
-    nl_z: NDArray[np.float64],
-    f_u: NDArray[np.float64],
-    gamma_u: NDArray[np.float64],
-    slope_u: NDArray[np.float64],
-    curv_u: NDArray[np.float64],
-    flat: bool,
-    placement: float,
-    dx: float,
-    kappa_max: float,
-    cand: NDArray[np.int64],
-    bound: NDArray[np.float64],
-    descending: bool,
-    e_star: float,
-    g_star: float,
-    mu0: float,
-    reach: int,
-    st_acc: NDArray[np.bool_],
-    st_ft: NDArray[np.float64],
-    st_xc: NDArray[np.float64],
-    st_ex: NDArray[np.float64],
-    st_ez: NDArray[np.float64],
-    st_list: NDArray[np.int64],
-    st_count: NDArray[np.int64],
-    claimed: NDArray[np.bool_],
-    c_idx: NDArray[np.int64],
-    c_fn: NDArray[np.float64],
-    c_ex: NDArray[np.float64],
-    c_ez: NDArray[np.float64],
-    c_xc: NDArray[np.float64],
-    c_z: NDArray[np.float64],
-    c_delta: NDArray[np.float64],
-    c_reff: NDArray[np.float64],
-    c_ft: NDArray[np.float64],
-    c_slip: NDArray[np.bool_],
-    c_src: NDArray[np.int64],
-) -> tuple[Any, ...]:  # pragma: no cover - compiled
-    """One configuration (u, δ_N) of the upper body; see the module docstring.
-
-    Returns (F_N, F_T, A_S, n_contacts, n_slipping, dissipated work of this step,
-    F_N normal part, F_N tangential part, n_tilted, n_closed).
-    """
-    n = f_l.size
+def _upper_surface(
+    surf: Surfaces, i: int, shift: float
+) -> tuple[bool, float, float, float]:  # pragma: no cover - compiled
+    """(inside, h^u, S′/dx, S″/dx²) of the shifted upper spline at lower point i (module doc)."""
+    if surf.flat:
+        return True, 0.0, 0.0, 0.0
+    f_u = surf.f_u
     n_up = f_u.size
-    threshold = placement - d
-    shift = u / dx
-    inv_dx = 1.0 / dx
-    inv_dx2 = inv_dx * inv_dx
-    half_dx = 0.5 * dx
-    n_c = 0
-    n_closed = 0
-    for j in range(cand.size):
-        if bound[j] < threshold:
-            if descending:
-                break
-            continue
-        i = cand[j]
-        # The height first: the slope and curvature only where the gap has closed.
-        if flat:
-            h_u = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            g = (placement - (h_u + f_l[i])) - d
-            if g > 0.0:
-                continue
-        else:
-            xi = i - shift
-            if xi < 0.0 or xi > n_up - 1:
-                continue
-            k = math.floor(xi)
-            if k > n_up - 2:
-                k = n_up - 2
-            t = xi - k
-            if t == 0.0:  # on a knot: the fitted values themselves
-                h_u = f_u[k]
-                g = (placement - (h_u + f_l[i])) - d
-                if g > 0.0:
-                    continue
-                s1 = slope_u[k]
-                s2 = curv_u[k]
-            else:
-                w = 1.0 - t
-                g0 = gamma_u[k]
-                g1 = gamma_u[k + 1]
-                h_u = (
-                    w * f_u[k]
-                    + t * f_u[k + 1]
-                    + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
-                )
-                g = (placement - (h_u + f_l[i])) - d
-                if g > 0.0:
-                    continue
-                s1 = (
-                    f_u[k + 1]
-                    - f_u[k]
-                    + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
-                ) * inv_dx
-                s2 = (w * g0 + t * g1) * inv_dx2
-        n_closed += 1
-        k_l = kappa_l[i]
-        norm_u = math.sqrt(1.0 + s1 * s1)
-        k_u = -s2 / (norm_u * norm_u * norm_u)
-        if k_u > kappa_max:
-            k_u = kappa_max
-        elif k_u < -kappa_max:
-            k_u = -kappa_max
-        k_sum = k_l + k_u
-        if not k_sum > 0.0:  # Table 1
-            continue
-        m_x = s1 / norm_u
-        m_z = 1.0 / norm_u
-        n_x = nl_x[i]
-        n_z = nl_z[i]
-        k_prod = k_u * k_l
-        y_x = k_l * m_x + k_u * n_x
-        y_z = k_prod * g + k_l * m_z + k_u * n_z
-        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
-        if not y_norm > 0.0:
-            continue
-        dmx = m_x - n_x
-        dmz = m_z - n_z
-        delta = (dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)) / (
-            y_norm + k_sum
-        )
-        if not delta > 0.0:
-            continue
-        offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
-        if not (-half_dx <= offset < half_dx):  # eq. 9
-            continue
-        c_idx[n_c] = i
-        c_fn[n_c] = _QUARTER_PI * e_star * delta
-        c_ex[n_c] = y_x / y_norm
-        c_ez[n_c] = y_z / y_norm
-        c_xc[n_c] = i * dx + offset
-        c_z[n_c] = f_l[i] + (
-            2.0 * dmz + delta * (k_u * n_z - k_l * m_z) + g * k_u * (2.0 - k_l * delta)
-        ) / (2.0 * y_norm)
-        c_delta[n_c] = delta
-        c_reff[n_c] = 2.0 / k_sum
-        n_c += 1
+    xi = i - shift
+    if xi < 0.0 or xi > n_up - 1:
+        return False, 0.0, 0.0, 0.0
+    k = math.floor(xi)
+    if k > n_up - 2:
+        k = n_up - 2
+    t = xi - k
+    if t == 0.0:  # on a knot: the fitted values themselves
+        return True, f_u[k], surf.slope_u[k], surf.curv_u[k]
+    w = 1.0 - t
+    g0 = surf.gamma_u[k]
+    g1 = surf.gamma_u[k + 1]
+    h_u = w * f_u[k] + t * f_u[k + 1] + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
+    inv_dx = 1.0 / surf.dx
+    s1 = (
+        f_u[k + 1] - f_u[k] + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
+    ) * inv_dx
+    s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
+    return True, h_u, s1, s2
 
-    # Spring migration: the same cell continues its contact. Every other accepted contact may
-    # continue a vanished (not accepted again in its own cell) previous contact within `reach`
-    # cells; the pairs are assigned greedily by increasing distance between the previous and the
-    # new centre (independent of the visiting order, hence mirror symmetric).
+
+@numba.njit(cache=True, nogil=True)
+def _migrate(
+    n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch
+) -> None:  # pragma: no cover - compiled
+    """Which committed contact each accepted contact continues (``scratch.src``).
+
+    The same cell continues its contact. Every other accepted contact may continue a vanished
+    (not accepted again in its own cell) previous contact within ``migrate_cells`` cells; the
+    pairs are assigned greedily by increasing distance between the previous and the new centre
+    (independent of the visiting order, hence mirror symmetric).
+    """
+    st_acc = springs.acc
+    claimed = springs.claimed
+    c_idx = scratch.idx
+    c_src = scratch.src
     n_pairs = 0
     for c in range(n_c):
         c_src[c] = -1
@@ -330,7 +324,7 @@ def path_step(
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        for r in range(1, reach + 1):
+        for r in range(1, migrate_cells + 1):
             for sgn in (-1, 1):
                 q = i + sgn * r
                 if 0 <= q < n and st_acc[q] and not claimed[q]:
@@ -344,13 +338,13 @@ def path_step(
             if c_src[c] >= 0:
                 continue
             i = c_idx[c]
-            for r in range(1, reach + 1):
+            for r in range(1, migrate_cells + 1):
                 for sgn in (-1, 1):
                     q = i + sgn * r
                     if 0 <= q < n and st_acc[q] and not claimed[q]:
                         pair_c[p] = c
                         pair_q[p] = q
-                        pair_d[p] = abs(st_xc[q] - c_xc[c])
+                        pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
                         p += 1
         order = np.argsort(pair_d, kind="mergesort")
         for o in order:
@@ -363,6 +357,88 @@ def path_step(
         if c_src[c] >= 0:
             claimed[c_src[c]] = False
 
+
+@numba.njit(cache=True, nogil=True)
+def path_step(
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    commit: bool,
+    surf: Surfaces,
+    cand: NDArray[np.int64],
+    bound: NDArray[np.float64],
+    descending: bool,
+    material: Material,
+    migrate_cells: int,
+    springs: Springs,
+    scratch: Scratch,
+) -> StepSums:  # pragma: no cover - compiled
+    """One configuration (u, δ_N) of the upper body; see the module docstring.
+
+    Visits the candidates ``cand`` (with upper bounds ``bound`` of f^l + f^u; sorted by
+    decreasing bound when ``descending``), accepts contacts (Table 1, eq. 9, eq. 10, the law of
+    ``material``), migrates the springs (:func:`_migrate`) and applies eqs. 11–13. With
+    ``commit`` the new spring and law state replace the old.
+    """
+    f_l = surf.f_l
+    n = f_l.size
+    placement = surf.placement
+    reach = material.reach
+    threshold = placement - d - reach
+    shift = u / surf.dx
+    half_dx = 0.5 * surf.dx
+    kappa_max = surf.kappa_max
+    code = material.law_code
+    params = material.law_params
+    law_state = material.law_state
+    n_c = 0
+    n_closed = 0
+    for j in range(cand.size):
+        if bound[j] < threshold:
+            if descending:
+                break
+            continue
+        i = cand[j]
+        # The height first: the slope and curvature only where the gap has closed.
+        inside, h_u, s1, s2 = _upper_surface(surf, i, shift)
+        if not inside:
+            continue
+        g = (placement - (h_u + f_l[i])) - d
+        if g > reach:
+            continue
+        n_closed += 1
+        k_l = surf.kappa_l[i]
+        norm_u = math.sqrt(1.0 + s1 * s1)
+        k_u = -s2 / (norm_u * norm_u * norm_u)
+        if k_u > kappa_max:
+            k_u = kappa_max
+        elif k_u < -kappa_max:
+            k_u = -kappa_max
+        m_z = 1.0 / norm_u
+        n_z = surf.nl_z[i]
+        accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
+            g, k_l, k_u, s1 / norm_u, m_z, surf.nl_x[i], n_z, half_dx, -reach
+        )
+        if not accepted:
+            continue
+        reff = 2.0 / (k_l + k_u)
+        f_n, width = normal_law(code, params, delta, reff, law_state, i)
+        scratch.idx[n_c] = i
+        scratch.fn[n_c] = f_n
+        scratch.ex[n_c] = e_x
+        scratch.ez[n_c] = e_z
+        scratch.xc[n_c] = i * surf.dx + offset
+        scratch.z[n_c] = f_l[i] + contact_centre_height(g, k_l, k_u, m_z, n_z, delta, y_norm)
+        scratch.delta[n_c] = delta
+        scratch.reff[n_c] = reff
+        scratch.width[n_c] = width
+        n_c += 1
+
+    _migrate(n, n_c, migrate_cells, springs, scratch)
+
+    g_star = material.g_star
+    mu0 = material.mu0
     sum_fn = 0.0
     sum_ft = 0.0
     sum_area = 0.0
@@ -372,54 +448,49 @@ def path_step(
     n_slip = 0
     tilted = 0
     for c in range(n_c):
-        f_n = c_fn[c]
-        e_x = c_ex[c]
-        e_z = c_ez[c]
-        src = c_src[c]
+        f_n = scratch.fn[c]
+        e_x = scratch.ex[c]
+        e_z = scratch.ez[c]
+        src = scratch.src[c]
+        previous = 0.0
+        increment = 0.0
         if src >= 0:
             # Eq. 11 with the upper body's increment (Δu_T, −Δδ_N) projected on the mean of the
             # old and new tangents t = (e_z, −e_x) (trapezoidal rule: reversible without slip).
-            proj = 0.5 * (du * (st_ez[src] + e_z) + dd * (st_ex[src] + e_x))
-            trial = st_ft[src] - g_star * proj
-        else:
-            trial = 0.0
-        cap = mu0 * f_n
-        slipping = False
-        f_t = trial
-        if trial > cap:
-            f_t = cap
-            slipping = True
-        elif trial < -cap:
-            f_t = -cap
-            slipping = True
+            proj = 0.5 * (du * (springs.ez[src] + e_z) + dd * (springs.ex[src] + e_x))
+            previous = springs.ft[src]
+            increment = g_star * proj
+        f_t, slipping, trial = tangential_spring(previous, increment, mu0, f_n)
         if slipping:
             n_slip += 1
             if g_star > 0.0:
+                cap = mu0 * f_n
                 work += cap * (abs(trial) - cap) / g_star
-        c_ft[c] = f_t
-        c_slip[c] = slipping
+        scratch.ft[c] = f_t
+        scratch.slip[c] = slipping
         fn_part = f_n * e_z
         ft_part = -f_t * e_x
         sum_fn_normal += fn_part
         sum_fn_tangential += ft_part
         sum_fn += fn_part + ft_part
         sum_ft += f_n * e_x + f_t * e_z
-        sum_area += math.sqrt(c_delta[c] * c_reff[c])
+        sum_area += scratch.width[c]
         if e_z < 0.0:
             tilted += 1
     if commit:
-        for p in range(st_count[0]):
-            st_acc[st_list[p]] = False
+        for p in range(springs.count[0]):
+            springs.acc[springs.list[p]] = False
         for c in range(n_c):
-            i = c_idx[c]
-            st_acc[i] = True
-            st_ft[i] = c_ft[c]
-            st_xc[i] = c_xc[c]
-            st_ex[i] = c_ex[c]
-            st_ez[i] = c_ez[c]
-            st_list[c] = i
-        st_count[0] = n_c
-    return (
+            i = scratch.idx[c]
+            springs.acc[i] = True
+            springs.ft[i] = scratch.ft[c]
+            springs.xc[i] = scratch.xc[c]
+            springs.ex[i] = scratch.ex[c]
+            springs.ez[i] = scratch.ez[c]
+            springs.list[c] = i
+            commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
+        springs.count[0] = n_c
+    return StepSums(
         sum_fn,
         sum_ft,
         sum_area,
@@ -434,6 +505,12 @@ def path_step(
 
 
 @numba.njit(cache=True, nogil=True)
+def migrate_cells_of(du: float, dd: float, dx: float, n: int) -> int:  # pragma: no cover
+    """Cells [1] within which a vanished contact may continue: 1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉."""
+    return 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / dx), n))
+
+
+@numba.njit(cache=True, nogil=True)
 def run_steps(
     u_a: float,
     d_a: float,
@@ -445,50 +522,13 @@ def run_steps(
     u_prev: float,
     d_prev: float,
     chunk_cells: float,
-    f_l: NDArray[np.float64],
-    kappa_l: NDArray[np.float64],
-    nl_x: NDArray[np.float64],
-    nl_z: NDArray[np.float64],
-    f_u: NDArray[np.float64],
-    gamma_u: NDArray[np.float64],
-    slope_u: NDArray[np.float64],
-    curv_u: NDArray[np.float64],
-    flat: bool,
-    placement: float,
-    dx: float,
-    kappa_max: float,
-    f_l_block: NDArray[np.float64],
-    envelope: NDArray[np.float64],
-    envelope_block: NDArray[np.float64],
-    block: int,
-    f_l_super: NDArray[np.float64],
-    envelope_super: NDArray[np.float64],
-    per_super: int,
-    margin: float,
+    surf: Surfaces,
+    cull: Culling,
     buf_idx: NDArray[np.int64],
     buf_bound: NDArray[np.float64],
-    e_star: float,
-    g_star: float,
-    mu0: float,
-    st_acc: NDArray[np.bool_],
-    st_ft: NDArray[np.float64],
-    st_xc: NDArray[np.float64],
-    st_ex: NDArray[np.float64],
-    st_ez: NDArray[np.float64],
-    st_list: NDArray[np.int64],
-    st_count: NDArray[np.int64],
-    claimed: NDArray[np.bool_],
-    c_idx: NDArray[np.int64],
-    c_fn: NDArray[np.float64],
-    c_ex: NDArray[np.float64],
-    c_ez: NDArray[np.float64],
-    c_xc: NDArray[np.float64],
-    c_z: NDArray[np.float64],
-    c_delta: NDArray[np.float64],
-    c_reff: NDArray[np.float64],
-    c_ft: NDArray[np.float64],
-    c_slip: NDArray[np.bool_],
-    c_src: NDArray[np.int64],
+    material: Material,
+    springs: Springs,
+    scratch: Scratch,
     out: NDArray[np.float64],
     k0: int,
 ) -> None:  # pragma: no cover - compiled
@@ -500,6 +540,7 @@ def run_steps(
     the list is rebuilt, in grid order, every ``chunk_cells`` grid spacings of travel. ``out``
     receives, per step (row k0 + s − s_first), δ_N, u_T and the 10 sums of :func:`path_step`.
     """
+    dx = surf.dx
     moving = u_b != u_a
     if moving:
         per_chunk = int(chunk_cells * n_steps / (abs(u_b - u_a) / dx))
@@ -524,9 +565,8 @@ def run_steps(
             u_hi = max(u_s, u_e, u_cur)
             d_max = max(d_s, d_e)
             count = candidate_bounds(
-                f_l, f_l_block, envelope, envelope_block, block, f_l_super, envelope_super,
-                per_super, flat, math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
-                placement - d_max, margin, buf_idx, buf_bound,
+                surf, cull, math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
+                surf.placement - d_max - material.reach, buf_idx, buf_bound,
             )  # fmt: skip
             if moving:
                 cand = buf_idx[:count]
@@ -540,25 +580,22 @@ def run_steps(
         d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
         du = u - u_cur
         dd = d - d_cur
-        reach = 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / dx), f_l.size))
         sums = path_step(
-            u, d, du, dd, True, f_l, kappa_l, nl_x, nl_z, f_u, gamma_u, slope_u, curv_u, flat,
-            placement, dx, kappa_max, cand, bound, not moving, e_star, g_star, mu0, reach,
-            st_acc, st_ft, st_xc, st_ex, st_ez, st_list, st_count, claimed,
-            c_idx, c_fn, c_ex, c_ez, c_xc, c_z, c_delta, c_reff, c_ft, c_slip, c_src,
+            u, d, du, dd, True, surf, cand, bound, not moving, material,
+            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch,
         )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
         out[row, 1] = u
-        out[row, 2] = sums[0]
-        out[row, 3] = sums[1]
-        out[row, 4] = sums[2]
-        out[row, 5] = sums[3]
-        out[row, 6] = sums[4]
-        out[row, 7] = sums[5]
-        out[row, 8] = sums[6]
-        out[row, 9] = sums[7]
-        out[row, 10] = sums[8]
-        out[row, 11] = sums[9]
+        out[row, 2] = sums.normal_force
+        out[row, 3] = sums.tangential_force
+        out[row, 4] = sums.contact_area
+        out[row, 5] = sums.n_contacts
+        out[row, 6] = sums.n_slipping
+        out[row, 7] = sums.step_work
+        out[row, 8] = sums.normal_force_normal_part
+        out[row, 9] = sums.normal_force_tangential_part
+        out[row, 10] = sums.n_tilted_contacts
+        out[row, 11] = sums.n_candidates
         u_cur = u
         d_cur = d
