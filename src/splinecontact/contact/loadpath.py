@@ -172,8 +172,8 @@ class _State:
             xc=np.zeros(n),
             ex=np.zeros(n),
             ez=np.zeros(n),
-            list=np.zeros(n, dtype=np.int64),
-            count=np.zeros(1, dtype=np.int64),
+            cells=np.zeros(n, dtype=np.int64),
+            n_committed=np.zeros(1, dtype=np.int64),
             claimed=np.zeros(n, dtype=np.bool_),
         )
         self.material = _k.Material(
@@ -622,9 +622,9 @@ def simulate_path(
     )  # fmt: skip
     stats = surface_statistics(
         lower,
-        None if flat else upper,
+        upper if isinstance(upper, Profile) else None,
         fit_l.slope,
-        None if fit_u is None else fit_u.slope,  # type: ignore[arg-type]
+        None if fit_u is None else fit_u.slope,
     )
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)

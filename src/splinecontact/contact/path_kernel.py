@@ -94,8 +94,8 @@ class Springs(NamedTuple):
     xc: NDArray[np.float64]  # its centre x [µm]
     ex: NDArray[np.float64]  # its repulsive direction [1]
     ez: NDArray[np.float64]
-    list: NDArray[np.int64]  # the committed cells
-    count: NDArray[np.int64]  # how many (one value)
+    cells: NDArray[np.int64]  # the committed cells
+    n_committed: NDArray[np.int64]  # how many (one value)
     claimed: NDArray[np.bool_]  # scratch of the migration
 
 
@@ -478,8 +478,8 @@ def path_step(
         if e_z < 0.0:
             tilted += 1
     if commit:
-        for p in range(springs.count[0]):
-            springs.acc[springs.list[p]] = False
+        for p in range(springs.n_committed[0]):
+            springs.acc[springs.cells[p]] = False
         for c in range(n_c):
             i = scratch.idx[c]
             springs.acc[i] = True
@@ -487,9 +487,9 @@ def path_step(
             springs.xc[i] = scratch.xc[c]
             springs.ex[i] = scratch.ex[c]
             springs.ez[i] = scratch.ez[c]
-            springs.list[c] = i
+            springs.cells[c] = i
             commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
-        springs.count[0] = n_c
+        springs.n_committed[0] = n_c
     return StepSums(
         sum_fn,
         sum_ft,

@@ -205,9 +205,9 @@ def simulate(
     )  # fmt: skip
     stats = surface_statistics(
         lower,
-        None if flat else upper,
+        upper if isinstance(upper, Profile) else None,
         fit_l.slope,
-        None if fit_u is None else fit_u.slope,  # type: ignore[arg-type]
+        None if fit_u is None else fit_u.slope,
     )
     if record_steps.size:
         reserved = int(geometry.first_step_index[record_steps].sum())
