@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ForceControlError, LoadPathError, ParameterError
-from ..profile import Profile, surface_statistics
+from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spheres import own_frame_geometry
 from ..spline import SplineFit, fit_spline
@@ -301,30 +301,6 @@ def _step(
     )  # fmt: skip
 
 
-def _run(
-    geo: _Geometry,
-    state: _State,
-    u_a: float,
-    d_a: float,
-    u_b: float,
-    d_b: float,
-    n_steps: int,
-    s_first: int,
-    s_last: int,
-    u_prev: float,
-    d_prev: float,
-    table: NDArray[np.float64],
-    row: int,
-) -> None:
-    """Compiled steps s_first … s_last of a displacement-controlled segment into ``table``."""
-    state.ensure(geo.surf.f_l.size)
-    _k.run_steps(
-        u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
-        geo.surf, geo.cull, state.cand_idx, state.cand_bound, state.material, state.springs,
-        state.scratch, table, row,
-    )  # fmt: skip
-
-
 #: The per-step sums of :func:`.path_kernel.path_step`, in table column order.
 _NAMES = _k.StepSums._fields
 
@@ -508,8 +484,12 @@ def run_path(
                     s_last = s
                 else:
                     s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
-                _run(geo, state, u_a, d_a, u_b, d_target, n_steps, s, s_last,
-                     u_cur, d_cur, table, k + s)  # fmt: skip
+                state.ensure(n)
+                _k.run_steps(
+                    u_a, d_a, u_b, d_target, n_steps, s, s_last, u_cur, d_cur,
+                    float(_CHUNK_CELLS), geo.surf, geo.cull, state.cand_idx, state.cand_bound,
+                    state.material, state.springs, state.scratch, table, k + s,
+                )  # fmt: skip
                 if record[k + s_last]:
                     store_contacts(k + s_last, int(table[k + s_last, 5]))
                 u_cur, d_cur = table[k + s_last, 1], table[k + s_last, 0]
@@ -595,7 +575,7 @@ def simulate_path(
     x0 [µm], the contact law); ``steps`` must keep its default 1000 and
     ``final_displacement`` must be ``None`` (the path's segments set both).
     """
-    from .simulation import _record_steps
+    from .simulation import _record_steps, build_result, spline_fits
 
     segments = validate_path(path)
     if final_displacement is not None:
@@ -614,18 +594,11 @@ def simulate_path(
     extent = max(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-    fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
     geometry = contact_geometry(
         lower, upper, steps=1, final_displacement=max(extent, lower.dx),
         final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
     )  # fmt: skip
-    stats = surface_statistics(
-        lower,
-        upper if isinstance(upper, Profile) else None,
-        fit_l.slope,
-        None if fit_u is None else fit_u.slope,
-    )
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
@@ -633,41 +606,17 @@ def simulate_path(
         alpha=alpha, x0=x0, record_steps=record_steps, law=law,
     )  # fmt: skip
     curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
-    final = float(curves["displacement"][-1])
-    parameters: dict[str, Any] = {
-        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
-        "steps": total,
-        "final_displacement": final,
-        "final_displacement_factor": 0.2,
-        "e_star": e_star,
-        "g_star": g_star,
-        "mu0": mu0,
-        "alpha": float(alpha),
-        "x0": float(x0),
-        "r_min": 0.5 * lower.dx,
-        "dx": lower.dx,
-        "n_points": lower.n_points,
-        "length": lower.length,
-        "path": [
-            {
-                "normal": s.normal,
-                "normal_force": s.normal_force,
-                "tangential": s.tangential,
-                "steps": s.steps,
-            }
-            for s in segments
-        ],
-        "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
-    }
-    scalars = {**stats, "final_displacement": final}
-    return SimulationResult(
-        curves=curves,
-        scalars=scalars,
-        parameters=parameters,
-        contacts=contacts,
-        lower_metadata=dict(lower.metadata),
-        upper_metadata={"source": "flat"} if flat else dict(upper.metadata),  # type: ignore[union-attr]
-    )
+    path_record = [
+        {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
+         "steps": s.steps}
+        for s in segments
+    ]  # fmt: skip
+    return build_result(
+        lower, upper, (fit_l, fit_u), curves, contacts, steps=total,
+        final_displacement_factor=0.2, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
+        x0=x0, extra={"path": path_record,
+                      "path_segment_end": np.cumsum([s.steps for s in segments]).tolist()},
+    )  # fmt: skip
 
 
 _SPEC_KEYS = {"normal": "normal", "force": "normal_force", "normal_force": "normal_force",

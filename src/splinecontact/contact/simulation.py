@@ -11,8 +11,8 @@ from numpy.typing import NDArray
 from .._checks import check_integer
 from ..errors import ParameterError
 from ..profile import Profile, surface_statistics
-from ..results import SimulationResult
-from ..spline import fit_spline
+from ..results import ContactRecord, SimulationResult
+from ..spline import SplineFit, fit_spline
 from .geometry import check_bodies, check_positive, contact_geometry
 from .kernel import run_loading
 from .laws import ContactLaw, Hertz, check_law
@@ -194,21 +194,13 @@ def simulate(
         )  # fmt: skip
     record_steps = _record_steps(record_contacts, steps)
 
-    flat = isinstance(upper, str)
     check_bodies(lower, upper)
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-    fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
     geometry = contact_geometry(
         lower, upper, steps=steps, final_displacement=final_displacement,
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
         fits=(fit_l, fit_u), reach=law.reach,
     )  # fmt: skip
-    stats = surface_statistics(
-        lower,
-        upper if isinstance(upper, Profile) else None,
-        fit_l.slope,
-        None if fit_u is None else fit_u.slope,
-    )
     if record_steps.size:
         reserved = int(geometry.first_step_index[record_steps].sum())
         if reserved > MAX_RECORDED_CONTACTS:
@@ -220,11 +212,52 @@ def simulate(
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )
-    curves, contacts = run.curves, run.contacts
+    if diagnostics:
+        from ..diagnostics import warn_simulation  # form, coarse grid, near-full contact
+
+        warn_simulation(lower, upper, run.curves, alpha=alpha, x0=x0)
+    return build_result(
+        lower, upper, (fit_l, fit_u), run.curves, run.contacts, steps=steps,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0,
+    )  # fmt: skip
+
+
+def spline_fits(
+    lower: Profile, upper: Profile | Literal["flat"], *, alpha: float, x0: float
+) -> tuple[SplineFit, SplineFit | None]:
+    """Spline fits (eqs. 2–3) of the lower body and of the upper one (``None`` for a flat)."""
+    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+    return fit_l, (fit_spline(upper, alpha=alpha, x0=x0) if isinstance(upper, Profile) else None)
+
+
+def build_result(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    fits: tuple[SplineFit, SplineFit | None],
+    curves: dict[str, NDArray[Any]],
+    contacts: tuple[ContactRecord, ...],
+    *,
+    steps: int,
+    final_displacement_factor: float,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    extra: dict[str, Any] | None = None,
+) -> SimulationResult:
+    """A :class:`SimulationResult`: the curves, the model parameters (and ``extra`` ones), the
+    grid, and the roughness scalars of :func:`splinecontact.profile.surface_statistics`.
+
+    Units as in :func:`simulate` (E*, G* [GPa], α, μ0 [1], x0 [µm]).
+    """
+    flat = not isinstance(upper, Profile)
+    final = float(curves["displacement"][-1])
     parameters: dict[str, Any] = {
         "contact_type": "rough-on-flat" if flat else "rough-on-rough",
         "steps": steps,
-        "final_displacement": float(geometry.displacement[-1]),
+        "final_displacement": final,
         "final_displacement_factor": float(final_displacement_factor),
         "e_star": e_star,
         "g_star": g_star,
@@ -235,17 +268,20 @@ def simulate(
         "dx": lower.dx,
         "n_points": lower.n_points,
         "length": lower.length,
+        **(extra or {}),
     }
-    scalars = {**stats, "final_displacement": float(geometry.displacement[-1])}
-    if diagnostics:
-        from ..diagnostics import warn_simulation  # form, coarse grid, near-full contact
-
-        warn_simulation(lower, upper, curves, alpha=alpha, x0=x0)
+    fit_l, fit_u = fits
+    stats = surface_statistics(
+        lower,
+        upper if isinstance(upper, Profile) else None,
+        fit_l.slope,
+        None if fit_u is None else fit_u.slope,
+    )
     return SimulationResult(
         curves=curves,
-        scalars=scalars,
+        scalars={**stats, "final_displacement": final},
         parameters=parameters,
         contacts=contacts,
         lower_metadata=dict(lower.metadata),
-        upper_metadata={"source": "flat"} if flat else dict(upper.metadata),  # type: ignore[union-attr]
+        upper_metadata=dict(upper.metadata) if isinstance(upper, Profile) else {"source": "flat"},
     )
