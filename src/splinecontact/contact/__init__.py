@@ -3,7 +3,8 @@
 * :mod:`.geometry` — body placement, candidate ordering, the two-sphere contact (eqs. 7–10);
 * :mod:`.laws` — the local contact laws behind one interface (Hertz, eq. 10; eqs. 11–13);
 * :mod:`.kernel` — the monotone normal loading loop;
-* :mod:`.path_kernel`, :mod:`.loadpath` — load paths (normal and tangential, force control);
+* :mod:`.segments`, :mod:`.path_kernel`, :mod:`.loadpath` — load paths (their description, the
+  compiled step and the driver: normal and tangential, force control);
 * :mod:`.simulation` — :func:`simulate` and its argument checks.
 """
 
@@ -13,7 +14,8 @@ from ..errors import ForceControlError, LoadPathError
 from .geometry import ContactGeometry, contact_geometry
 from .kernel import LoadingRun, run_loading
 from .laws import ContactLaw, Hertz
-from .loadpath import Segment, parse_path, run_path, simulate_path, validate_path
+from .loadpath import run_path, simulate_path
+from .segments import Segment, parse_path, validate_path
 from .simulation import MAX_RECORDED_CONTACTS, MAX_STEPS, SIMULATION_PARAMETERS, simulate
 
 __all__ = [

@@ -193,7 +193,7 @@ def contact_geometry(
     >>> ball = Profile(x, np.sqrt(1.0 - x**2) - 1.0)
     >>> geometry = contact_geometry(ball, "flat", steps=10, final_displacement=1e-3,
     ...                             final_displacement_factor=0.2, alpha=2.0, x0=1.0)
-    >>> int(geometry.first_step_index[0]), geometry.displacement[-1]
+    >>> int(geometry.first_step_index[0]), float(geometry.displacement[-1])
     (1, 0.001)
     """
     check_bodies(lower, upper)

@@ -18,7 +18,7 @@ from .kernel import run_loading
 from .laws import ContactLaw, Hertz, check_law
 
 if TYPE_CHECKING:
-    from .loadpath import Segment
+    from .segments import Segment
 
 __all__ = ["MAX_RECORDED_CONTACTS", "MAX_STEPS", "SIMULATION_PARAMETERS", "simulate"]
 
