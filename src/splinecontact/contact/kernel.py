@@ -26,9 +26,10 @@ from .geometry import ContactGeometry, contact_centre_height, sphere_contact
 from .laws import (
     ContactLaw,
     Hertz,
+    Material,
     check_law,
     commit_law,
-    new_law_state,
+    kernel_material,
     normal_law,
     tangential_spring,
 )
@@ -87,12 +88,7 @@ def _loading_kernel(
     active: NDArray[np.int64],
     displacement: NDArray[np.float64],
     dx: float,
-    law_code: int,
-    law_params: NDArray[np.float64],
-    law_state: NDArray[np.float64],
-    min_delta: float,
-    g_star: float,
-    mu0: float,
+    material: Material,
     record: NDArray[np.bool_],
     record_capacity: int,
 ) -> LoadingCurves:  # pragma: no cover - compiled
@@ -119,6 +115,12 @@ def _loading_kernel(
     rec_ez = np.empty(record_capacity)
     n_rec = 0
     half_dx = 0.5 * dx
+    law_code = material.law_code
+    law_params = material.law_params
+    law_state = material.law_state
+    min_delta = -material.reach
+    g_star = material.g_star
+    mu0 = material.mu0
     for step in range(n_steps):
         d = displacement[step]
         increment = displacement[step] - displacement[step - 1] if step > 0 else 0.0
@@ -245,8 +247,8 @@ def run_loading(
         geometry.gap0, geometry.curvature_lower, geometry.curvature_upper,
         geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, geometry.point,
         geometry.first_step_index, geometry.displacement, geometry.dx,
-        law.code, law.kernel_parameters(e_star), new_law_state(law, n_points), -law.reach,
-        g_star, mu0, record, capacity,
+        kernel_material(law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n_points),
+        record, capacity,
     )  # fmt: skip
     curves: dict[str, NDArray[Any]] = {
         "displacement": geometry.displacement,

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import ClassVar, NamedTuple, Protocol, runtime_checkable
 
 import numba
 import numpy as np
@@ -37,8 +37,10 @@ __all__ = [
     "HERTZ",
     "ContactLaw",
     "Hertz",
+    "Material",
     "check_law",
     "commit_law",
+    "kernel_material",
     "new_law_state",
     "normal_law",
     "tangential_spring",
@@ -132,6 +134,49 @@ def check_law(law: object) -> ContactLaw:
 def new_law_state(law: ContactLaw, n_points: int) -> NDArray[np.float64]:
     """Zeroed history state: one row per lower-body grid point, ``law.n_state`` columns."""
     return np.zeros((n_points, law.n_state))
+
+
+class Material(NamedTuple):
+    """What the compiled kernels know of the contact law and of the tangential spring.
+
+    Attributes
+    ----------
+    law_code : int
+        :attr:`ContactLaw.code`.
+    law_params : ndarray
+        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``.
+    law_state : ndarray
+        History state, shape (n lower grid points, :attr:`ContactLaw.n_state`); persists across
+        the steps of a run (and across separation).
+    reach : float
+        :attr:`ContactLaw.reach` [µm].
+    g_star : float
+        Effective shear modulus G* [GPa] (eq. 11).
+    mu0 : float
+        Molecular friction coefficient μ0 [1] (eqs. 12–13).
+    """
+
+    law_code: int
+    law_params: NDArray[np.float64]
+    law_state: NDArray[np.float64]
+    reach: float
+    g_star: float
+    mu0: float
+
+
+def kernel_material(
+    law: ContactLaw, *, e_star: float, g_star: float, mu0: float, n_points: int
+) -> Material:
+    """The kernels' view of ``law`` with E* [GPa], G* [GPa], μ0 [1], and a fresh zero state for
+    ``n_points`` lower grid points."""
+    return Material(
+        law_code=law.code,
+        law_params=law.kernel_parameters(e_star),
+        law_state=new_law_state(law, n_points),
+        reach=float(law.reach),
+        g_star=float(g_star),
+        mu0=float(mu0),
+    )
 
 
 @numba.njit(cache=True, nogil=True)

@@ -33,7 +33,7 @@ from ..spheres import own_frame_geometry
 from ..spline import SplineFit, fit_spline
 from . import path_kernel as _k
 from .geometry import contact_geometry
-from .laws import ContactLaw, Hertz, check_law, new_law_state
+from .laws import ContactLaw, Hertz, check_law, kernel_material
 from .segments import Segment, validate_path
 
 __all__ = ["FORCE_RTOL", "run_path", "simulate_path"]
@@ -72,14 +72,7 @@ class _State:
             n_committed=np.zeros(1, dtype=np.int64),
             claimed=np.zeros(n, dtype=np.bool_),
         )
-        self.material = _k.Material(
-            law_code=law.code,
-            law_params=law.kernel_parameters(e_star),
-            law_state=new_law_state(law, n),
-            reach=float(law.reach),
-            g_star=float(g_star),
-            mu0=float(mu0),
-        )
+        self.material = kernel_material(law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n)
         self.cand_idx = np.empty(n, dtype=np.int64)
         self.cand_bound = np.empty(n)
         self.capacity = 0

@@ -28,11 +28,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .geometry import contact_centre_height, sphere_contact
-from .laws import commit_law, normal_law, tangential_spring
+from .laws import Material, commit_law, normal_law, tangential_spring
 
 __all__ = [
     "Culling",
-    "Material",
     "Scratch",
     "Springs",
     "StepSums",
@@ -73,17 +72,6 @@ class Culling(NamedTuple):
     envelope_super: NDArray[np.float64]
     per_super: int
     margin: float  # rounding margin of the bounds [µm]
-
-
-class Material(NamedTuple):
-    """The contact law (see :mod:`.laws`) and the tangential spring of eqs. 11–13."""
-
-    law_code: int
-    law_params: NDArray[np.float64]  # [E* [GPa], *law parameters]
-    law_state: NDArray[np.float64]  # (n points, n_state), persists across steps
-    reach: float  # gap [µm] at which the law starts to act (0 for Hertz)
-    g_star: float  # G* [GPa]
-    mu0: float  # μ0 [1]
 
 
 class Springs(NamedTuple):
