@@ -95,3 +95,48 @@ def test_explicit_hertz_is_bit_identical_to_the_default(
     d = simulate(lower, upper, path=path, law=Hertz())
     for name in ("normal_force", "tangential_force", "contact_area", "dissipated_work"):
         np.testing.assert_array_equal(getattr(c, name), getattr(d, name))
+
+
+@pytest.mark.parametrize("reach", [0.0, 2e-4, 1e-3])
+def test_reach_makes_points_candidates_at_gap_reach(reach: float) -> None:
+    from splinecontact import fit_spline
+    from splinecontact.contact import contact_geometry
+
+    from conftest import circle_cap
+
+    x = np.linspace(-0.5, 0.5, 201)
+    ball = Profile(x, circle_cap(x, 1.0))
+    steps, final = 10, 1e-3
+    geometry = contact_geometry(
+        ball, "flat", steps=steps, final_displacement=final, final_displacement_factor=0.2,
+        alpha=2.0, x0=1.0, reach=reach,
+    )  # fmt: skip
+    f = fit_spline(ball).f
+    gap0 = f.max() - f
+    for k, d in enumerate(geometry.displacement):
+        active = set(geometry.point[: geometry.first_step_index[k]].tolist())
+        assert active == set(np.flatnonzero(gap0 - reach <= d).tolist())
+
+
+def test_negative_reach_is_refused() -> None:
+    from splinecontact.contact import contact_geometry
+
+    x = np.linspace(0.0, 1.0, 11)
+    with pytest.raises(ParameterError, match="reach"):
+        contact_geometry(
+            Profile(x, np.sin(x)), "flat", steps=2, final_displacement=1e-3,
+            final_displacement_factor=0.2, alpha=2.0, x0=1.0, reach=-1e-3,
+        )  # fmt: skip
+
+
+def test_load_path_errors_live_in_errors_and_stay_importable() -> None:
+    import splinecontact
+    import splinecontact.contact
+    import splinecontact.errors
+
+    for name in ("LoadPathError", "ForceControlError"):
+        cls = getattr(splinecontact.errors, name)
+        assert getattr(splinecontact, name) is cls
+        assert getattr(splinecontact.contact, name) is cls
+        assert issubclass(cls, ParameterError)
+    assert issubclass(splinecontact.ForceControlError, splinecontact.LoadPathError)
