@@ -56,6 +56,7 @@ class _Geometry:
     surf: _k.Surfaces
     cull: _k.Culling
     scale: float
+    surf_tuple: tuple[Any, ...]  # surf as a plain tuple (see path_kernel.path_step_from_python)
 
 
 class _State:
@@ -73,10 +74,14 @@ class _State:
             claimed=np.zeros(n, dtype=np.bool_),
         )
         self.material = kernel_material(law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n)
+        # plain-tuple views for the calls from Python (path_kernel.path_step_from_python)
+        self.springs_tuple = tuple(self.springs)
+        self.material_tuple = tuple(self.material)
         self.cand_idx = np.empty(n, dtype=np.int64)
         self.cand_bound = np.empty(n)
         self.capacity = 0
         self.scratch = _scratch(0)
+        self.scratch_tuple: tuple[Any, ...] = ()
         self.ensure(16)
 
     def ensure(self, capacity: int) -> None:
@@ -84,6 +89,7 @@ class _State:
             return
         self.capacity = capacity
         self.scratch = _scratch(capacity)
+        self.scratch_tuple = tuple(self.scratch)
 
 
 def _scratch(capacity: int) -> _k.Scratch:
@@ -169,7 +175,7 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         per_super=_PER_SUPER,
         margin=1e-12 * scale,
     )
-    return _Geometry(surf=surf, cull=cull, scale=scale)
+    return _Geometry(surf=surf, cull=cull, scale=scale, surf_tuple=tuple(surf))
 
 
 def _step(
@@ -183,10 +189,13 @@ def _step(
     commit: bool,
 ) -> _k.StepSums:
     state.ensure(cands.idx.size + 1)
-    migrate = _k.migrate_cells_of(du, dd, geo.surf.dx, geo.surf.f_l.size)
-    return _k.path_step(
-        u, d, du, dd, commit, geo.surf, cands.idx, cands.bound, False, state.material, migrate,
-        state.springs, state.scratch,
+    # the formula of path_kernel.migrate_cells_of, run as Python (no dispatch per call)
+    migrate = _k.migrate_cells_of.py_func(du, dd, geo.surf.dx, geo.surf.f_l.size)
+    return _k.StepSums(
+        *_k.path_step_from_python(
+            u, d, du, dd, commit, geo.surf_tuple, cands.idx, cands.bound, state.material_tuple,
+            migrate, state.springs_tuple, state.scratch_tuple,
+        )
     )  # fmt: skip
 
 

@@ -21,7 +21,7 @@ these are exactly the fitted f, f′ and f″ at the knots.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -40,6 +40,7 @@ __all__ = [
     "candidate_bounds",
     "interval_envelope",
     "path_step",
+    "path_step_from_python",
     "run_steps",
 ]
 
@@ -490,6 +491,34 @@ def path_step(
         tilted,
         n_closed,
     )
+
+
+@numba.njit(cache=True, nogil=True)
+def path_step_from_python(
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    commit: bool,
+    surf: tuple[Any, ...],
+    cand: NDArray[np.int64],
+    bound: NDArray[np.float64],
+    material: tuple[Any, ...],
+    migrate_cells: int,
+    springs: tuple[Any, ...],
+    scratch: tuple[Any, ...],
+) -> tuple[Any, ...]:  # pragma: no cover - compiled
+    """:func:`path_step` (candidates in grid order) with its records given as plain tuples.
+
+    For calls from Python (the force-controlled steps call it many times per step): numba
+    types a plain tuple argument, and returns one, several times faster than a named tuple.
+    The result is the fields of :class:`StepSums` in order.
+    """
+    s = path_step(
+        u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
+        migrate_cells, Springs(*springs), Scratch(*scratch),
+    )  # fmt: skip
+    return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
 
 @numba.njit(cache=True, nogil=True)
