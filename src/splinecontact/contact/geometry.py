@@ -45,6 +45,7 @@ from ..spline import SplineFit, fit_spline
 
 __all__ = [
     "ContactGeometry",
+    "add_contact_forces",
     "check_bodies",
     "check_positive",
     "contact_centre_height",
@@ -365,4 +366,39 @@ def contact_centre_height(
     """Height of the contact centre above the lower surface point, z_c − h^l_i [µm] (eq. 8)."""
     return (2.0 * (m_z - n_z) + delta * (k_u * n_z - k_l * m_z) + g * k_u * (2.0 - k_l * delta)) / (
         2.0 * y_norm
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def add_contact_forces(
+    sums: tuple[float, float, float, float, float, int],
+    f_n: float,
+    f_t: float,
+    e_x: float,
+    e_z: float,
+    width: float,
+) -> tuple[float, float, float, float, float, int]:  # pragma: no cover - compiled
+    """Add one accepted contact to the global sums of eq. 14.
+
+    Parameters
+    ----------
+    sums : tuple
+        (F_N, F_T [mN/µm], A_S [µm], F_N from the normal forces, F_N from the tangential forces
+        [mN/µm], number of contacts whose repulsive direction points down [1]) so far.
+    f_n, f_t : float
+        The contact's normal force along e and tangential force along t = (e_z, −e_x) [mN/µm].
+    e_x, e_z : float
+        Repulsive direction e [1].
+    width : float
+        The contact's half-width [µm] (its share of A_S).
+    """
+    fn_part = f_n * e_z
+    ft_part = -f_t * e_x
+    return (
+        sums[0] + (fn_part + ft_part),
+        sums[1] + (f_n * e_x + f_t * e_z),
+        sums[2] + width,
+        sums[3] + fn_part,
+        sums[4] + ft_part,
+        sums[5] + (1 if e_z < 0.0 else 0),
     )

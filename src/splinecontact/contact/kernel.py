@@ -22,7 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..results import ContactRecord
-from .geometry import ContactGeometry, contact_centre_height, sphere_contact
+from .geometry import (
+    ContactGeometry,
+    add_contact_forces,
+    contact_centre_height,
+    sphere_contact,
+)
 from .laws import (
     ContactLaw,
     Hertz,
@@ -124,13 +129,8 @@ def _loading_kernel(
     for step in range(n_steps):
         d = displacement[step]
         increment = displacement[step] - displacement[step - 1] if step > 0 else 0.0
-        sum_fn = 0.0
-        sum_ft = 0.0
-        sum_area = 0.0
-        sum_fn_normal = 0.0
-        sum_fn_tangential = 0.0
+        sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
         count = 0
-        tilted = 0
         for j in range(active[step]):
             k_l = kl[j]
             k_u = ku[j]
@@ -152,16 +152,8 @@ def _loading_kernel(
                 f_t = 0.0
             tangential[j] = f_t
             was_accepted[j] = True
-            fn_part = f_n * e_z
-            ft_part = -f_t * e_x
-            sum_fn_normal += fn_part
-            sum_fn_tangential += ft_part
-            sum_fn += fn_part + ft_part
-            sum_ft += f_n * e_x + f_t * e_z
-            sum_area += width
+            sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, width)
             count += 1
-            if e_z < 0.0:
-                tilted += 1
             if record[step]:
                 rec_step[n_rec] = step
                 rec_index[n_rec] = j
@@ -176,13 +168,9 @@ def _loading_kernel(
                 rec_ex[n_rec] = e_x
                 rec_ez[n_rec] = e_z
                 n_rec += 1
-        out_fn[step] = sum_fn
-        out_ft[step] = sum_ft
-        out_area[step] = sum_area
+        out_fn[step], out_ft[step], out_area[step] = sums[0], sums[1], sums[2]
+        out_fn_normal[step], out_fn_tangential[step], out_tilted[step] = sums[3], sums[4], sums[5]
         out_count[step] = count
-        out_fn_normal[step] = sum_fn_normal
-        out_fn_tangential[step] = sum_fn_tangential
-        out_tilted[step] = tilted
     return LoadingCurves(
         out_fn,
         out_ft,

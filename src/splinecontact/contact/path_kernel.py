@@ -27,7 +27,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from .geometry import contact_centre_height, sphere_contact
+from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, tangential_spring
 
 __all__ = [
@@ -428,14 +428,9 @@ def path_step(
 
     g_star = material.g_star
     mu0 = material.mu0
-    sum_fn = 0.0
-    sum_ft = 0.0
-    sum_area = 0.0
-    sum_fn_normal = 0.0
-    sum_fn_tangential = 0.0
+    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
     work = 0.0
     n_slip = 0
-    tilted = 0
     for c in range(n_c):
         f_n = scratch.fn[c]
         e_x = scratch.ex[c]
@@ -457,15 +452,7 @@ def path_step(
                 work += cap * (abs(trial) - cap) / g_star
         scratch.ft[c] = f_t
         scratch.slip[c] = slipping
-        fn_part = f_n * e_z
-        ft_part = -f_t * e_x
-        sum_fn_normal += fn_part
-        sum_fn_tangential += ft_part
-        sum_fn += fn_part + ft_part
-        sum_ft += f_n * e_x + f_t * e_z
-        sum_area += scratch.width[c]
-        if e_z < 0.0:
-            tilted += 1
+        sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
     if commit:
         for p in range(springs.n_committed[0]):
             springs.acc[springs.cells[p]] = False
@@ -480,16 +467,7 @@ def path_step(
             commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
         springs.n_committed[0] = n_c
     return StepSums(
-        sum_fn,
-        sum_ft,
-        sum_area,
-        n_c,
-        n_slip,
-        work,
-        sum_fn_normal,
-        sum_fn_tangential,
-        tilted,
-        n_closed,
+        sums[0], sums[1], sums[2], n_c, n_slip, work, sums[3], sums[4], sums[5], n_closed
     )
 
 
