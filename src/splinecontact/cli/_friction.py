@@ -60,8 +60,7 @@ def register(app: typer.Typer) -> None:
         Nothing is written when anything fails.
         """
         from ..analysis import FrictionAnalysisError, static_friction, tangential_stiffness
-        from ..contact import simulate
-        from ..loadpath import parse_path
+        from ..contact import parse_path, simulate
         from ..outputs import check_output_file
         from ._measured import _check_result_suffix, write_result
 
