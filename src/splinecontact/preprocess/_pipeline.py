@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -64,24 +65,27 @@ def _is_uniform(x: NDArray[np.float64]) -> bool:
 def _rounded_grid_steps(diffs: NDArray[np.float64], fitted_step: float, resolution: float) -> bool:
     """Whether printed steps are those of a uniform grid rounded to ``resolution``.
 
-    Rounding a uniform grid of step s to multiples of r gives steps of exactly k·r or (k+1)·r,
-    k = ⌊s/r⌋. A missing sample gives a step of ⌊2s/r⌋·r or more, which can only be told from
-    these when 2s/r ≥ k + 2; with a coarser print (s/r < 1.5, say) the two cannot be told apart
-    and the grid is not regularised. So: s/r ≥ 1, every step a multiple k or k+1 of r, and
-    2s/r ≥ k + 2. (The fitted step s is compared with the individual and median steps, never
-    merely with the print resolution.)
+    Rounding a uniform grid of step s to multiples of r moves each point by at most r/2, so a
+    printed step lies in [s − r, s + r]: it is k·r or (k+1)·r, k = ⌊s/r⌋, and when s/r is an
+    integer (a grid that falls on rounding ties, e.g. 0.005 + 2i printed to two decimals) also
+    (s/r ± 1)·r. A missing sample gives a step of at least 2s − r, which can only be told from
+    these when 2s/r − 1 ≥ the largest rounded step (for s/r not an integer: 2s/r ≥ k + 2); with a
+    coarser print (s/r < 1.5, say) the two cannot be told apart and the grid is not
+    regularised. (The fitted step s is compared with the individual steps, never merely with
+    the print resolution.)
     """
     if not resolution > 0 or diffs.size == 0:
         return False
     q = fitted_step / resolution
     if not (np.isfinite(q) and q >= 1.0):
         return False
-    k = int(np.floor(q))
+    slack = 1e-6  # q within this of an integer: the grid falls on rounding ties
+    lowest, highest = math.ceil(q - 1.0 - slack), math.floor(q + 1.0 + slack)
     units = diffs / resolution
     m = np.rint(units)
     if not np.all(np.abs(units - m) <= 1e-3):
         return False
-    return bool(np.all((m == k) | (m == k + 1)) and 2.0 * q >= k + 2)
+    return bool(np.all((m >= lowest) & (m <= highest)) and 2.0 * q - 1.0 + slack >= highest)
 
 
 def _least_squares_grid(x: NDArray[np.float64]) -> NDArray[np.float64]:
