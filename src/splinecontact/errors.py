@@ -12,6 +12,8 @@ from __future__ import annotations
 
 __all__ = [
     "BEMError",
+    "CohesiveStressError",
+    "ContactLawError",
     "GridMismatchError",
     "GridNotIncreasingError",
     "GridNotUniformError",
@@ -19,6 +21,7 @@ __all__ = [
     "NonFiniteValueError",
     "OutputError",
     "OutputExistsError",
+    "PoissonRatioError",
     "ParameterError",
     "ProfileError",
     "ProfileRangeError",
@@ -29,7 +32,10 @@ __all__ = [
     "StudyConfigError",
     "StudyStoreError",
     "TooFewPointsError",
+    "UnknownContactLawError",
     "UnsafeOutputError",
+    "WorkOfAdhesionError",
+    "YieldStrengthError",
 ]
 
 
@@ -126,3 +132,31 @@ class OutputExistsError(OutputError):
 
 class UnsafeOutputError(OutputError):
     """Writing there could destroy something splinecontact did not create (or an input)."""
+
+
+# --- contact laws -----------------------------------------------------------------------------
+
+
+class ContactLawError(ParameterError):
+    """A local contact law (adhesive or elastic–plastic) was given an invalid parameter."""
+
+
+class UnknownContactLawError(ContactLawError):
+    """The name of a contact law is not one the package knows."""
+
+
+class WorkOfAdhesionError(ContactLawError):
+    """The work of adhesion w [J/m²] is negative, not finite or not a number."""
+
+
+class CohesiveStressError(ContactLawError):
+    """The cohesive (Dugdale) stress σ0 [GPa] is not a finite number > 0."""
+
+
+class YieldStrengthError(ContactLawError):
+    """The yield strength or the hardness [GPa] is not a finite number > 0 (or both or neither
+    were given)."""
+
+
+class PoissonRatioError(ContactLawError):
+    """Poisson's ratio ν is outside [0, 0.5)."""

@@ -1,0 +1,703 @@
+"""Adhesive line contacts: 2D JKR, 2D DMT and 2D Maugis–Dugdale (plane strain, per unit thickness).
+
+Each law replaces the Hertzian normal force of one SAD contact (paper eq. 10, F = (π/4) E* δ) by
+an adhesive one, as the paper's Sec. 4 proposes. Conventions (``docs/contact-laws.md``):
+
+* ``r_eff`` is the package's R_eff = 2/(κ^u + κ^l) [µm]; the textbook reduced radius of the two
+  cylinders is R = R_eff/2 (for a circle of radius r on the rigid flat, R = r).
+* ``b`` is the true contact half-width [µm]; the law's *width* output is √2·b, the paper's
+  A_i = √(δ R_eff) for Hertz (``docs/conventions.md``), so A_S keeps its meaning.
+* The work of adhesion is entered as ``work_of_adhesion`` in J/m² (typical 0.01–1) and converted
+  once, ``w = 10⁻³ · work_of_adhesion`` in the package's force unit per length, mN/µm; every
+  function below that takes ``w`` takes it in mN/µm.
+* The approach δ [µm] in 2D is defined only up to a log term. The package's Hertz law
+  F = (π/4) E* δ ⇔ b² = R δ is the elastic approach measured against reference points at the
+  distance β·b from the contact, β = e^{3/2}/2, and the same rule is applied to every part of the
+  pressure over the zone it loads: the Hertzian part over the contact |x| < b, the adhesive
+  tractions over the adhesive zone |x| < c (c = b in JKR). This gives, per unit thickness,
+  JKR: δ = b²/R − 3 P₁/(π E*) with the punch load P₁ = √(2π E* w b); Maugis–Dugdale: eq. (MD-δ)
+  in :func:`md_approach`. At a positive gap (DMT, Maugis–Dugdale out of contact) δ < 0 is minus the
+  gap of the undeformed surfaces.
+
+All three laws are evaluated under displacement control of δ (SAD moves the upper body):
+each contact keeps the branch it is on while that branch exists, so contact forms by a jump-in
+and breaks by a jump-out (JKR, Maugis–Dugdale with a fold); the minimum force along a path is
+the load-control pull-off whenever the path passes its half-width (JKR: b_c, eq. (J-c)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from ._checks import MAGNITUDE_LIMIT
+from .errors import CohesiveStressError, WorkOfAdhesionError
+
+__all__ = [
+    "DMT",
+    "JKR",
+    "MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE",
+    "MaugisDugdale",
+    "dmt_evaluate",
+    "dmt_pull_off_force",
+    "jkr_approach",
+    "jkr_evaluate",
+    "jkr_force",
+    "jkr_jump_in_half_width",
+    "jkr_jump_out_half_width",
+    "jkr_pull_off_force",
+    "jkr_pull_off_half_width",
+    "md_approach",
+    "md_branch",
+    "md_evaluate",
+    "md_fold",
+    "md_force",
+    "md_gap_residual",
+    "md_noncontact",
+    "tabor_parameter",
+]
+
+#: 1 J/m² = 1 N/m = 10⁻³ mN/µm: multiply a work of adhesion in J/m² by this to get mN/µm.
+MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE = 1e-3
+
+_PI = math.pi
+#: ln(2β) with β = e^{3/2}/2: the reference distance that makes Hertz F = (π/4)E*δ.
+_LOG_2BETA = 1.5
+#: State columns of the history-dependent laws: branch (0 free, 1 adhesive zone without contact,
+#: 2 contact), last half-width b [µm], R_eff of the cached fold [µm], fold b_f [µm], fold δ_f [µm].
+N_STATE = 5
+
+
+def _check_w(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise WorkOfAdhesionError(
+            f"work_of_adhesion = {value!r} is not a number; give the work of adhesion in J/m² "
+            "(typical 0.01–1)"
+        )
+    number = float(value)
+    if not math.isfinite(number) or number < 0.0 or number > MAGNITUDE_LIMIT:
+        raise WorkOfAdhesionError(
+            f"work_of_adhesion = {number!r} J/m² must be a finite number ≥ 0 (0 is Hertz); "
+            "give the work of adhesion in J/m² (typical 0.01–1)"
+        )
+    return number
+
+
+def _check_sigma(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise CohesiveStressError(
+            f"cohesive_stress = {value!r} is not a number; give the Dugdale stress σ0 in GPa "
+            "(typical 0.1–10)"
+        )
+    number = float(value)
+    if not math.isfinite(number) or number <= 0.0 or number > MAGNITUDE_LIMIT:
+        raise CohesiveStressError(
+            f"cohesive_stress = {number!r} GPa must be a finite number > 0; give the Dugdale "
+            "stress σ0 in GPa (typical 0.1–10)"
+        )
+    return number
+
+
+# --- 2D JKR (Barquins 1988; Chaudhury, Weaver, Hui & Kramer 1996) -----------------------------
+
+
+@numba.njit(cache=True, nogil=True)
+def jkr_force(half_width: float, r_eff: float, e_star: float, w: float) -> float:
+    """Force of a JKR line contact of half-width b (eq. J-F): P = π E* b²/(4R) − √(2π E* w b).
+
+    Parameters
+    ----------
+    half_width : float
+        Contact half-width b [µm].
+    r_eff : float
+        R_eff = 2/(κ^u + κ^l) [µm] (R = R_eff/2).
+    e_star : float
+        Contact modulus E* [GPa].
+    w : float
+        Work of adhesion [mN/µm].
+
+    Returns
+    -------
+    float
+        Normal force per unit thickness [mN/µm] (negative = tensile).
+    """
+    return 0.5 * _PI * e_star * half_width * half_width / r_eff - math.sqrt(
+        2.0 * _PI * e_star * w * half_width
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def jkr_approach(half_width: float, r_eff: float, e_star: float, w: float) -> float:
+    """Approach of a JKR line contact of half-width b (eq. J-δ): δ = b²/R − 3√(2wb/(π E*)) [µm].
+
+    Hertz part b²/R (the package's F = (π/4)E*δ) minus the flat-punch part 3P₁/(πE*) with the
+    same reference rule (see the module docstring); inputs as :func:`jkr_force`.
+    """
+    return 2.0 * half_width * half_width / r_eff - 3.0 * math.sqrt(
+        2.0 * w * half_width / (_PI * e_star)
+    )
+
+
+def jkr_pull_off_half_width(r_eff: float, e_star: float, w: float) -> float:
+    """Half-width at the load-control pull-off (eq. J-c): b_c = (2 w R²/(π E*))^{1/3} [µm]."""
+    r = 0.5 * r_eff
+    return float((2.0 * w * r * r / (_PI * e_star)) ** (1.0 / 3.0))
+
+
+def jkr_pull_off_force(r_eff: float, e_star: float, w: float) -> float:
+    """Load-control pull-off force (eq. J-c): P_c = −3 (π E* R w²/16)^{1/3} [mN/µm].
+
+    It is also the minimum force along a displacement-controlled unloading that passes b_c
+    (b_c lies on the stable branch: b_c > :func:`jkr_jump_out_half_width`).
+    """
+    r = 0.5 * r_eff
+    return float(-3.0 * (_PI * e_star * r * w * w / 16.0) ** (1.0 / 3.0))
+
+
+def jkr_jump_out_half_width(r_eff: float, e_star: float, w: float) -> float:
+    """Half-width where a displacement-controlled JKR contact jumps out (dδ/db = 0, eq. J-m):
+    b_m = (9 w R²/(8π E*))^{1/3} [µm]."""
+    r = 0.5 * r_eff
+    return float((9.0 * w * r * r / (8.0 * _PI * e_star)) ** (1.0 / 3.0))
+
+
+def jkr_jump_in_half_width(r_eff: float, e_star: float, w: float) -> float:
+    """Half-width the contact jumps to when the surfaces touch (δ = 0 on the stable branch):
+    b_0 = (18 w R²/(π E*))^{1/3} [µm]."""
+    r = 0.5 * r_eff
+    return float((18.0 * w * r * r / (_PI * e_star)) ** (1.0 / 3.0))
+
+
+@numba.njit(cache=True, nogil=True)
+def _jkr_stable_root(delta: float, r: float, a: float) -> float:
+    # Largest root s = √b of s⁴/R − a s − δ = 0 (a = 3√(2w/(πE*))): f is convex for s > 0, so
+    # Newton from a point with f ≥ 0 right of the root decreases monotonically onto it.
+    s = (r * abs(delta)) ** 0.25 + (r * a) ** (1.0 / 3.0)
+    for _ in range(200):
+        s3 = s * s * s
+        f = s3 * s / r - a * s - delta
+        df = 4.0 * s3 / r - a
+        if df <= 0.0:
+            break
+        step = f / df
+        s_new = s - step
+        if not s_new < s:
+            break
+        s = s_new
+        if step <= 1e-16 * s:
+            break
+    return s * s
+
+
+@numba.njit(cache=True, nogil=True)
+def jkr_evaluate(
+    delta: float, r_eff: float, e_star: float, w: float, branch: float
+) -> tuple[float, float, float]:
+    """One JKR contact under displacement control.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap of the undeformed surface spheres δ [µm] (eq. 10).
+    r_eff : float
+        R_eff [µm].
+    e_star : float
+        E* [GPa].
+    w : float
+        Work of adhesion [mN/µm] (0: Hertz exactly).
+    branch : float
+        The contact's state: 0 apart, 2 in contact (from the previous committed step).
+
+    Returns
+    -------
+    (force, width, branch)
+        Force [mN/µm], width √2·b [µm] and the new branch.
+    """
+    if w == 0.0:
+        if delta > 0.0:
+            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0
+        return 0.0, 0.0, 0.0
+    r = 0.5 * r_eff
+    if branch == 2.0:
+        b_m = (9.0 * w * r * r / (8.0 * _PI * e_star)) ** (1.0 / 3.0)
+        if delta < jkr_approach(b_m, r_eff, e_star, w):
+            return 0.0, 0.0, 0.0  # jump-out
+    elif delta < 0.0:
+        return 0.0, 0.0, 0.0  # apart: JKR has no attraction at a gap
+    a = 3.0 * math.sqrt(2.0 * w / (_PI * e_star))
+    b = _jkr_stable_root(delta, r, a)
+    return jkr_force(b, r_eff, e_star, w), math.sqrt(2.0) * b, 2.0
+
+
+@dataclass(frozen=True)
+class JKR:
+    """2D JKR line contact (Barquins 1988; Chaudhury, Weaver, Hui & Kramer 1996).
+
+    P = π E* b²/(4R) − √(2π E* w b) with R = R_eff/2; approach δ = b²/R − 3√(2wb/(πE*))
+    (package convention, ``docs/contact-laws.md``). No attraction at a positive gap.
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
+    """
+
+    code: ClassVar[int] = 1
+    name: ClassVar[str] = "jkr"
+    n_state: ClassVar[int] = N_STATE
+
+    work_of_adhesion: float = 0.1
+
+    def validate(self) -> None:
+        """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` for a bad w."""
+        _check_w(self.work_of_adhesion)
+
+    @property
+    def w(self) -> float:
+        """Work of adhesion in the package's unit [mN/µm]."""
+        return float(self.work_of_adhesion) * MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE
+
+    def parameters(self) -> dict[str, float]:
+        """Parameters as recorded with results (name → value; units in the names' docs)."""
+        return {"work_of_adhesion": float(self.work_of_adhesion)}
+
+    def reach(self, e_star: float, r_eff_max: float) -> float:
+        """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` still holds:
+        −δ(b_m) (jump-out overlap)."""
+        if self.w == 0.0:
+            return 0.0
+        b_m = jkr_jump_out_half_width(r_eff_max, e_star, self.w)
+        return max(0.0, -float(jkr_approach(b_m, r_eff_max, e_star, self.w)))
+
+
+# --- 2D DMT ----------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True, nogil=True)
+def dmt_evaluate(
+    delta: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float]:
+    """2D DMT force [mN/µm] and width [µm] (eq. D): Hertzian deformation, Dugdale attraction
+    σ0 over the undeformed gap < h0 = w/σ0 (Derjaguin approximation), frozen at its value at
+    touching while in contact:
+
+    * δ ≥ 0: F = (π/4) E* δ − 2σ0 √(2R h0), width √(δ R_eff);
+    * −h0 < δ < 0: F = −2σ0 √(2R (h0 + δ)), width 0;  δ ≤ −h0: 0.
+
+    ``w`` in mN/µm, ``sigma0`` in GPa, lengths in µm; R = R_eff/2.
+    """
+    if w == 0.0:
+        if delta > 0.0:
+            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)
+        return 0.0, 0.0
+    h0 = w / sigma0
+    if delta >= 0.0:
+        return (
+            0.25 * _PI * e_star * delta - 2.0 * sigma0 * math.sqrt(r_eff * h0),
+            math.sqrt(delta * r_eff),
+        )
+    if delta > -h0:
+        return -2.0 * sigma0 * math.sqrt(r_eff * (h0 + delta)), 0.0
+    return 0.0, 0.0
+
+
+def dmt_pull_off_force(r_eff: float, w: float, sigma0: float) -> float:
+    """2D DMT pull-off (eq. D-c): P_c = −2σ0 √(2R h0) = −2 √(2R w σ0) [mN/µm] (R = R_eff/2).
+
+    Unlike in 3D it depends on the range h0 = w/σ0, not on w alone.
+    """
+    return float(-2.0 * math.sqrt(r_eff * w * sigma0))
+
+
+@dataclass(frozen=True)
+class DMT:
+    """2D DMT line contact (Hertzian deformation plus Dugdale attraction outside it).
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
+    cohesive_stress : float
+        Dugdale stress σ0 [GPa] (> 0); the range is h0 = w/σ0.
+    """
+
+    code: ClassVar[int] = 2
+    name: ClassVar[str] = "dmt"
+    n_state: ClassVar[int] = 0
+
+    work_of_adhesion: float = 0.1
+    cohesive_stress: float = 1.0
+
+    def validate(self) -> None:
+        """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` or
+        :class:`~splinecontact.errors.CohesiveStressError`."""
+        _check_w(self.work_of_adhesion)
+        _check_sigma(self.cohesive_stress)
+
+    @property
+    def w(self) -> float:
+        """Work of adhesion [mN/µm]."""
+        return float(self.work_of_adhesion) * MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE
+
+    @property
+    def range(self) -> float:
+        """Range of the attraction h0 = w/σ0 [µm]."""
+        return self.w / float(self.cohesive_stress)
+
+    def parameters(self) -> dict[str, float]:
+        """Parameters as recorded with results."""
+        return {
+            "work_of_adhesion": float(self.work_of_adhesion),
+            "cohesive_stress": float(self.cohesive_stress),
+        }
+
+    def reach(self, e_star: float, r_eff_max: float) -> float:
+        """Largest gap [µm] at which the law attracts: h0."""
+        return self.range
+
+
+# --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
+#
+# Contact |x| < b, Dugdale tension σ0 on b < |x| < c, t = √(c² − b²)/b, m = c/b = √(1 + t²).
+# With a_k = 4σ0/(π E*) and R = R_eff/2:
+#   (MD-P) P = π E* b²/(4R) − 2σ0 b t
+#   (MD-h) h0 = b² (m t − asinh t)/(2R) + a_k b (t asinh t − m ln m)      (gap at x = c)
+#   (MD-δ) δ = b²/R + a_k b (m asinh t − t (5/2 + ln m))
+# Out of contact (adhesive zone |x| < c, no contact): δ = c²/(2R) − α c − h0 with
+# α = a_k (5/2 − 2 ln 2), P = −2σ0 c, valid while δ < −a_k c (5/2 − ln 2) (gap at x = 0 > 0).
+
+
+@numba.njit(cache=True, nogil=True)
+def _mt_minus_asinh(t: float) -> float:
+    if t < 1e-3:
+        t2 = t * t
+        return t * t2 * (2.0 / 3.0 - t2 / 5.0 + 3.0 * t2 * t2 / 28.0)
+    return math.sqrt(1.0 + t * t) * t - math.asinh(t)
+
+
+@numba.njit(cache=True, nogil=True)
+def md_gap_residual(b: float, t: float, r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    """(MD-h) minus h0 [µm]: zero when the gap at the end of the Dugdale zone equals h0 = w/σ0.
+
+    ``b`` half-width [µm], ``t`` = √(c² − b²)/b [1], ``w`` [mN/µm], ``sigma0`` [GPa].
+    """
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    m = math.sqrt(1.0 + t * t)
+    return (
+        b * b * _mt_minus_asinh(t) / (2.0 * r)
+        + a_k * b * (t * math.asinh(t) - m * 0.5 * math.log1p(t * t))
+        - w / sigma0
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_t(b: float, r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    # (MD-h) is increasing in t from −h0 at t = 0: safeguarded Newton on a bracket.
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    lo = 0.0
+    hi = 1.0
+    for _ in range(2000):
+        if md_gap_residual(b, hi, r_eff, e_star, w, sigma0) >= 0.0:
+            break
+        lo = hi
+        hi *= 2.0
+    t = hi
+    for _ in range(200):
+        g = md_gap_residual(b, t, r_eff, e_star, w, sigma0)
+        if g > 0.0:
+            hi = t
+        else:
+            lo = t
+        m = math.sqrt(1.0 + t * t)
+        dg = b * b * t * t / (r * m) + a_k * b * (math.asinh(t) - t / m * 0.5 * math.log1p(t * t))
+        t_new = t - g / dg if dg > 0.0 else 0.5 * (lo + hi)
+        if not lo < t_new < hi:
+            t_new = 0.5 * (lo + hi)
+        if abs(t_new - t) <= 1e-15 * t or hi - lo <= 1e-15 * hi:
+            return t_new
+        t = t_new
+    return t
+
+
+@numba.njit(cache=True, nogil=True)
+def md_branch(
+    b: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float]:
+    """The Maugis–Dugdale contact of half-width b: (δ [µm], P [mN/µm], c [µm]) by (MD-h),
+    (MD-δ), (MD-P)."""
+    t = _md_t(b, r_eff, e_star, w, sigma0)
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    m = math.sqrt(1.0 + t * t)
+    delta = b * b / r + a_k * b * (m * math.asinh(t) - t * (2.5 + 0.5 * math.log1p(t * t)))
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    return delta, force, b * m
+
+
+def md_force(half_width: float, outer: float, r_eff: float, e_star: float, sigma0: float) -> float:
+    """(MD-P) P = π E* b²/(4R) − 2σ0 √(c² − b²) [mN/µm] for contact half-width b and Dugdale
+    zone half-width c [µm]."""
+    r = 0.5 * r_eff
+    return float(
+        0.25 * _PI * e_star * half_width**2 / r
+        - 2.0 * sigma0 * math.sqrt(max(outer * outer - half_width * half_width, 0.0))
+    )
+
+
+def md_approach(
+    half_width: float, outer: float, r_eff: float, e_star: float, sigma0: float
+) -> float:
+    """(MD-δ) δ = b²/R + (4σ0/(πE*)) [c·acosh(c/b) − √(c²−b²)(5/2 + ln(c/b))] [µm]."""
+    r = 0.5 * r_eff
+    k = math.sqrt(max(outer * outer - half_width * half_width, 0.0))
+    return float(
+        half_width**2 / r
+        + 4.0
+        * sigma0
+        / (_PI * e_star)
+        * (
+            outer * math.acosh(outer / half_width)
+            - k * (2.5 + math.log(outer / half_width))
+        )
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def md_noncontact(
+    delta: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, bool]:
+    """Adhesive zone without contact at overlap δ < 0: (P [mN/µm], c [µm], exists).
+
+    The stable root c = αR + √(α²R² + 2R(h0 + δ)) of δ = c²/(2R) − αc − h0; ``exists`` is
+    False below the fold δ = −h0 − α²R/2. Whether the surfaces already touch is left to the
+    caller (δ ≥ −a_k c (5/2 − ln 2)).
+    """
+    r = 0.5 * r_eff
+    alpha = 4.0 * sigma0 / (_PI * e_star) * (2.5 - 2.0 * math.log(2.0))
+    disc = alpha * alpha * r * r + 2.0 * r * (w / sigma0 + delta)
+    if disc < 0.0:
+        return 0.0, 0.0, False
+    c = alpha * r + math.sqrt(disc)
+    return -2.0 * sigma0 * c, c, True
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_scale(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    r = 0.5 * r_eff
+    b_jkr = (2.0 * w * r * r / (_PI * e_star)) ** (1.0 / 3.0)
+    return max(b_jkr, math.sqrt(2.0 * r * w / sigma0))
+
+
+@numba.njit(cache=True, nogil=True)
+def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
+    """Fold of the contact branch, (b_f [µm], δ_f [µm]): the minimum of δ(b). A monotone branch
+    (DMT-like) gives b_f at the lower end of the search (≈ 0) and δ_f = δ(0⁺), where it meets
+    the branch without contact."""
+    scale = _md_scale(r_eff, e_star, w, sigma0)
+    n = 64
+    lo = math.log(1e-7 * scale)
+    hi = math.log(10.0 * scale)
+    best = 0
+    best_d = 1e300
+    for i in range(n):
+        b = math.exp(lo + (hi - lo) * i / (n - 1))
+        d = md_branch(b, r_eff, e_star, w, sigma0)[0]
+        if d < best_d:
+            best_d = d
+            best = i
+    if best == 0:
+        return math.exp(lo), best_d
+    a = lo + (hi - lo) * (best - 1) / (n - 1)
+    c = lo + (hi - lo) * min(best + 1, n - 1) / (n - 1)
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1 = c - g * (c - a)
+    x2 = a + g * (c - a)
+    f1 = md_branch(math.exp(x1), r_eff, e_star, w, sigma0)[0]
+    f2 = md_branch(math.exp(x2), r_eff, e_star, w, sigma0)[0]
+    for _ in range(80):
+        if f1 < f2:
+            c = x2
+            x2 = x1
+            f2 = f1
+            x1 = c - g * (c - a)
+            f1 = md_branch(math.exp(x1), r_eff, e_star, w, sigma0)[0]
+        else:
+            a = x1
+            x1 = x2
+            f1 = f2
+            x2 = a + g * (c - a)
+            f2 = md_branch(math.exp(x2), r_eff, e_star, w, sigma0)[0]
+        if c - a < 1e-12:
+            break
+    b_f = math.exp(0.5 * (a + c))
+    return b_f, md_branch(b_f, r_eff, e_star, w, sigma0)[0]
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_contact_root(
+    delta: float, b_lo: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
+) -> float:
+    # δ(b) is increasing on (b_f, ∞): Illinois (regula falsi) on a bracket [lo, hi].
+    lo = b_lo
+    f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
+    hi = max(guess, 2.0 * lo, math.sqrt(0.5 * r_eff * abs(delta)))
+    f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
+    for _ in range(2000):
+        if f_hi >= 0.0:
+            break
+        lo = hi
+        f_lo = f_hi
+        hi *= 2.0
+        f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
+    if f_lo >= 0.0:
+        return lo
+    side = 0
+    b = hi
+    for _ in range(300):
+        b = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < b < hi:
+            b = 0.5 * (lo + hi)
+        f = md_branch(b, r_eff, e_star, w, sigma0)[0] - delta
+        if f == 0.0:
+            return b
+        if f > 0.0:
+            hi = b
+            f_hi = f
+            if side == 1:
+                f_lo *= 0.5
+            side = 1
+        else:
+            lo = b
+            f_lo = f
+            if side == -1:
+                f_hi *= 0.5
+            side = -1
+        if hi - lo <= 1e-14 * hi:
+            break
+    return b
+
+
+@numba.njit(cache=True, nogil=True)
+def md_evaluate(
+    delta: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[float, float, float, float, float, float, float]:
+    """One Maugis–Dugdale contact under displacement control.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap of the undeformed surface spheres δ [µm] (eq. 10; < 0 at a gap).
+    r_eff, e_star, w, sigma0 : float
+        R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
+    state : ndarray
+        The contact's :data:`N_STATE` history values (branch, b, cached R_eff, b_f, δ_f).
+
+    Returns
+    -------
+    (force, width, branch, b, r_cached, b_fold, delta_fold)
+        Force [mN/µm], width √2·b [µm], and the new state values.
+    """
+    if w == 0.0:
+        if delta > 0.0:
+            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    branch = state[0]
+    if state[2] == r_eff and r_eff > 0.0:
+        b_f = state[3]
+        d_f = state[4]
+    else:
+        b_f, d_f = md_fold(r_eff, e_star, w, sigma0)
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    h0 = w / sigma0
+    if branch == 0.0 and delta < -h0:
+        return 0.0, 0.0, 0.0, 0.0, r_eff, b_f, d_f
+    in_contact = branch == 2.0 and delta >= d_f
+    if not in_contact:
+        force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
+        if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
+            return force, 0.0, 1.0, 0.0, r_eff, b_f, d_f  # adhesive zone, gap at x = 0 open
+        if delta < d_f:
+            # no zone without contact (below its fold, or it would close the gap) and the contact
+            # branch does not reach this δ: apart (a jump-out if it was attached)
+            return 0.0, 0.0, 0.0, 0.0, r_eff, b_f, d_f
+    guess = state[1] if branch == 2.0 and state[1] > 0.0 else b_f
+    b = _md_contact_root(delta, b_f, r_eff, e_star, w, sigma0, guess)
+    _, force, _ = md_branch(b, r_eff, e_star, w, sigma0)
+    return force, math.sqrt(2.0) * b, 2.0, b, r_eff, b_f, d_f
+
+
+def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    """Maugis' parameter λ = 2σ0 (R/(π w E*²))^{1/3} with R = R_eff/2 [1]: JKR as λ → ∞,
+    DMT as λ → 0. ``w`` in mN/µm, ``sigma0`` in GPa."""
+    r = 0.5 * r_eff
+    return float(2.0 * sigma0 * (r / (_PI * w * e_star * e_star)) ** (1.0 / 3.0))
+
+
+@dataclass(frozen=True)
+class MaugisDugdale:
+    """2D Maugis–Dugdale line contact (Baney & Hui 1997; Johnson & Greenwood 2008).
+
+    A Dugdale stress σ0 acts where the gap is below h0 = w/σ0, inside the contact's adhesive zone
+    b < |x| < c; before contact the zone |x| < c attracts alone. Spans JKR (λ → ∞) and DMT
+    (λ → 0) through :func:`tabor_parameter`.
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
+    cohesive_stress : float
+        Dugdale stress σ0 [GPa] (> 0).
+    """
+
+    code: ClassVar[int] = 3
+    name: ClassVar[str] = "maugis-dugdale"
+    n_state: ClassVar[int] = N_STATE
+
+    work_of_adhesion: float = 0.1
+    cohesive_stress: float = 1.0
+
+    def validate(self) -> None:
+        """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` or
+        :class:`~splinecontact.errors.CohesiveStressError`."""
+        _check_w(self.work_of_adhesion)
+        _check_sigma(self.cohesive_stress)
+
+    @property
+    def w(self) -> float:
+        """Work of adhesion [mN/µm]."""
+        return float(self.work_of_adhesion) * MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE
+
+    @property
+    def range(self) -> float:
+        """Range of the attraction h0 = w/σ0 [µm]."""
+        return self.w / float(self.cohesive_stress)
+
+    def parameters(self) -> dict[str, float]:
+        """Parameters as recorded with results."""
+        return {
+            "work_of_adhesion": float(self.work_of_adhesion),
+            "cohesive_stress": float(self.cohesive_stress),
+        }
+
+    def reach(self, e_star: float, r_eff_max: float) -> float:
+        """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` still attracts."""
+        if self.w == 0.0:
+            return 0.0
+        sigma0 = float(self.cohesive_stress)
+        r = 0.5 * r_eff_max
+        alpha = 4.0 * sigma0 / (_PI * e_star) * (2.5 - 2.0 * math.log(2.0))
+        free_fold = self.range + 0.5 * alpha * alpha * r
+        _, d_f = md_fold(r_eff_max, e_star, self.w, sigma0)
+        return max(free_fold, -float(d_f), 0.0)
