@@ -381,7 +381,9 @@ def _mt_minus_asinh(t: float) -> float:
 
 
 @numba.njit(cache=True, nogil=True)
-def md_gap_residual(b: float, t: float, r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+def md_gap_residual(
+    b: float, t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> float:
     """(MD-h) minus h0 [µm]: zero when the gap at the end of the Dugdale zone equals h0 = w/σ0.
 
     ``b`` half-width [µm], ``t`` = √(c² − b²)/b [1], ``w`` [mN/µm], ``sigma0`` [GPa].
@@ -462,10 +464,7 @@ def md_approach(
         + 4.0
         * sigma0
         / (_PI * e_star)
-        * (
-            outer * math.acosh(outer / half_width)
-            - k * (2.5 + math.log(outer / half_width))
-        )
+        * (outer * math.acosh(outer / half_width) - k * (2.5 + math.log(outer / half_width)))
     )
 
 
