@@ -28,8 +28,8 @@ the load-control pull-off whenever the path passes its half-width (JKR: b_c, eq.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import ClassVar
+from dataclasses import dataclass, field, replace
+from typing import ClassVar, Self
 
 import numba
 import numpy as np
@@ -252,6 +252,7 @@ class JKR:
     n_state: ClassVar[int] = N_STATE
 
     work_of_adhesion: float = 0.1
+    reach_bound: float = field(default=0.0, repr=False, compare=False)
 
     def validate(self) -> None:
         """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` for a bad w."""
@@ -262,17 +263,34 @@ class JKR:
         """Work of adhesion in the package's unit [mN/µm]."""
         return float(self.work_of_adhesion) * MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE
 
-    def parameters(self) -> dict[str, float]:
-        """Parameters as recorded with results (name → value; units in the names' docs)."""
+    def parameters(self) -> NDArray[np.float64]:
+        """Kernel parameters: ``[w [mN/µm]]``."""
+        return np.array([self.w])
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E* [GPa], w [mN/µm]]``."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+    def settings(self) -> dict[str, float]:
+        """Parameters as given, recorded with results (``work_of_adhesion`` [J/m²])."""
         return {"work_of_adhesion": float(self.work_of_adhesion)}
 
-    def reach(self, e_star: float, r_eff_max: float) -> float:
-        """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` still holds:
-        −δ(b_m) (jump-out overlap)."""
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:
+        """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` [µm] still holds:
+        −δ(b_m), the overlap where it jumps out."""
         if self.w == 0.0:
             return 0.0
         b_m = jkr_jump_out_half_width(r_eff_max, e_star, self.w)
         return max(0.0, -float(jkr_approach(b_m, r_eff_max, e_star, self.w)))
+
+    @property
+    def reach(self) -> float:
+        """Reach [µm] bound by :meth:`bind` (0 before)."""
+        return self.reach_bound
+
+    def bind(self, e_star: float, r_eff_max: float) -> Self:
+        """This law with its reach for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
+        return replace(self, reach_bound=self.reach_for(e_star, r_eff_max))
 
 
 # --- 2D DMT ----------------------------------------------------------------------------------
@@ -332,6 +350,7 @@ class DMT:
 
     work_of_adhesion: float = 0.1
     cohesive_stress: float = 1.0
+    reach_bound: float = field(default=0.0, repr=False, compare=False)
 
     def validate(self) -> None:
         """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` or
@@ -349,14 +368,32 @@ class DMT:
         """Range of the attraction h0 = w/σ0 [µm]."""
         return self.w / float(self.cohesive_stress)
 
-    def parameters(self) -> dict[str, float]:
-        """Parameters as recorded with results."""
+    def parameters(self) -> NDArray[np.float64]:
+        """Kernel parameters: ``[w [mN/µm], σ0 [GPa]]``."""
+        return np.array([self.w, float(self.cohesive_stress)])
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E* [GPa], w [mN/µm], σ0 [GPa]]``."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+    def settings(self) -> dict[str, float]:
+        """Parameters as given, recorded with results (``work_of_adhesion`` [J/m²],
+        ``cohesive_stress`` [GPa])."""
         return {
             "work_of_adhesion": float(self.work_of_adhesion),
             "cohesive_stress": float(self.cohesive_stress),
         }
 
-    def reach(self, e_star: float, r_eff_max: float) -> float:
+    @property
+    def reach(self) -> float:
+        """Reach [µm] bound by :meth:`bind` (0 before)."""
+        return self.reach_bound
+
+    def bind(self, e_star: float, r_eff_max: float) -> Self:
+        """This law with its reach for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
+        return replace(self, reach_bound=self.reach_for(e_star, r_eff_max))
+
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:
         """Largest gap [µm] at which the law attracts: h0."""
         return self.range
 
@@ -666,6 +703,7 @@ class MaugisDugdale:
 
     work_of_adhesion: float = 0.1
     cohesive_stress: float = 1.0
+    reach_bound: float = field(default=0.0, repr=False, compare=False)
 
     def validate(self) -> None:
         """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` or
@@ -683,14 +721,32 @@ class MaugisDugdale:
         """Range of the attraction h0 = w/σ0 [µm]."""
         return self.w / float(self.cohesive_stress)
 
-    def parameters(self) -> dict[str, float]:
-        """Parameters as recorded with results."""
+    def parameters(self) -> NDArray[np.float64]:
+        """Kernel parameters: ``[w [mN/µm], σ0 [GPa]]``."""
+        return np.array([self.w, float(self.cohesive_stress)])
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E* [GPa], w [mN/µm], σ0 [GPa]]``."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+    def settings(self) -> dict[str, float]:
+        """Parameters as given, recorded with results (``work_of_adhesion`` [J/m²],
+        ``cohesive_stress`` [GPa])."""
         return {
             "work_of_adhesion": float(self.work_of_adhesion),
             "cohesive_stress": float(self.cohesive_stress),
         }
 
-    def reach(self, e_star: float, r_eff_max: float) -> float:
+    @property
+    def reach(self) -> float:
+        """Reach [µm] bound by :meth:`bind` (0 before)."""
+        return self.reach_bound
+
+    def bind(self, e_star: float, r_eff_max: float) -> Self:
+        """This law with its reach for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
+        return replace(self, reach_bound=self.reach_for(e_star, r_eff_max))
+
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:
         """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` still attracts."""
         if self.w == 0.0:
             return 0.0

@@ -34,7 +34,7 @@ def make_law(name: str, **parameters: Any) -> Any:
     if cls is None:
         known = ", ".join(["hertz", *sorted(LAWS)])
         raise UnknownContactLawError(f"contact law {name!r} does not exist; choose one of {known}")
-    fields = {f.name for f in dataclasses.fields(cls)}
+    fields = {f.name for f in dataclasses.fields(cls)} - {"reach_bound"}
     unknown = sorted(set(parameters) - fields)
     if unknown:
         raise ContactLawError(

@@ -29,8 +29,8 @@ Inputs: ``yield_strength`` S_y or ``hardness`` H [GPa] (the other from Tabor's H
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import ClassVar
+from dataclasses import dataclass, replace
+from typing import ClassVar, Self
 
 import numba
 import numpy as np
@@ -248,14 +248,32 @@ class ElasticPlastic:
             return float(self.hardness)
         return TABOR_FACTOR * float(self.yield_strength)  # type: ignore[arg-type]
 
-    def parameters(self) -> dict[str, float]:
-        """Parameters as recorded with results (both strengths, the derived one included)."""
+    def parameters(self) -> NDArray[np.float64]:
+        """Kernel parameters: ``[S_y [GPa], H [GPa], ν]``."""
+        return np.array([self.sy, self.h, float(self.poisson_ratio)])
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E* [GPa], S_y [GPa], H [GPa], ν]``."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+    def settings(self) -> dict[str, float]:
+        """Parameters recorded with results: both strengths [GPa] (the derived one included)
+        and ν."""
         return {
             "yield_strength": self.sy,
             "hardness": self.h,
             "poisson_ratio": float(self.poisson_ratio),
         }
 
-    def reach(self, e_star: float, r_eff_max: float) -> float:
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:
         """No force at a gap: 0 [µm]."""
         return 0.0
+
+    @property
+    def reach(self) -> float:
+        """0 [µm]: force only in overlap."""
+        return 0.0
+
+    def bind(self, e_star: float, r_eff_max: float) -> Self:
+        """This law (nothing depends on E*)."""
+        return replace(self)
