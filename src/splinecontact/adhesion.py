@@ -580,18 +580,29 @@ def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float
 def _md_contact_root(
     delta: float, b_lo: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
 ) -> float:
-    # δ(b) is increasing on (b_f, ∞): Illinois (regula falsi) on a bracket [lo, hi].
+    # δ(b) is increasing on (b_f, ∞): Illinois (regula falsi) on a bracket [lo, hi], first tried
+    # tight around the previous step's half-width.
     lo = b_lo
-    f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
-    hi = max(guess, 2.0 * lo, math.sqrt(0.5 * r_eff * abs(delta)))
-    f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
-    for _ in range(2000):
-        if f_hi >= 0.0:
-            break
-        lo = hi
-        f_lo = f_hi
-        hi *= 2.0
+    f_lo = -1.0
+    f_hi = -1.0
+    hi = lo
+    if guess > b_lo:
+        lo = max(b_lo, 0.98 * guess)
+        f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
+        hi = 1.02 * guess
         f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
+    if not (f_lo <= 0.0 <= f_hi):
+        lo = b_lo
+        f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
+        hi = max(guess, 2.0 * lo, math.sqrt(0.5 * r_eff * abs(delta)))
+        f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
+        for _ in range(2000):
+            if f_hi >= 0.0:
+                break
+            lo = hi
+            f_lo = f_hi
+            hi *= 2.0
+            f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
     if f_lo >= 0.0:
         return lo
     side = 0
@@ -668,7 +679,7 @@ def md_evaluate(
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
             return 0.0, 0.0, 0.0, 0.0, r_eff, b_f, d_f
-    guess = state[1] if branch == 2.0 and state[1] > 0.0 else b_f
+    guess = state[1] if branch == 2.0 and state[1] > b_f else b_f
     b = _md_contact_root(delta, b_f, r_eff, e_star, w, sigma0, guess)
     _, force, _ = md_branch(b, r_eff, e_star, w, sigma0)
     return force, math.sqrt(2.0) * b, 2.0, b, r_eff, b_f, d_f
@@ -751,8 +762,11 @@ class MaugisDugdale:
         if self.w == 0.0:
             return 0.0
         sigma0 = float(self.cohesive_stress)
-        r = 0.5 * r_eff_max
-        alpha = 4.0 * sigma0 / (_PI * e_star) * (2.5 - 2.0 * math.log(2.0))
-        free_fold = self.range + 0.5 * alpha * alpha * r
+        a_k = 4.0 * sigma0 / (_PI * e_star)
+        alpha = a_k * (2.5 - 2.0 * math.log(2.0))
+        # The zone without contact has its fold at c = αR, a state with the gap at x = 0 open
+        # only for R < h0/(α²/2 + a_k α ln 2); its deepest fold is −h0 − α²R/2 at that R.
+        r_open = self.range / (0.5 * alpha * alpha + a_k * alpha * math.log(2.0))
+        free_fold = self.range + 0.5 * alpha * alpha * min(0.5 * r_eff_max, r_open)
         _, d_f = md_fold(r_eff_max, e_star, self.w, sigma0)
         return max(free_fold, -float(d_f), 0.0)
