@@ -467,3 +467,46 @@ def test_bad_parameters_give_specific_errors(name: str, parameters: dict, error:
 def test_unknown_law_lists_the_known_ones() -> None:
     with pytest.raises(UnknownContactLawError, match="maugis-dugdale"):
         make_law("jrk")
+
+
+# --- analyses of a load–unload path -------------------------------------------------------------
+
+
+def test_unloading_analysis_on_a_jkr_path() -> None:
+    from splinecontact.law_analysis import cycle_energy, unloading
+
+    d_m = ad.jkr_approach(ad.jkr_jump_out_half_width(R_EFF, E_STAR, W), R_EFF, E_STAR, W)
+    b_c = ad.jkr_pull_off_half_width(R_EFF, E_STAR, W)
+    d_c = ad.jkr_approach(b_c, R_EFF, E_STAR, W)
+    load = np.linspace(2 * d_m, 0.01, 200)
+    unload = np.sort(np.concatenate([np.linspace(2 * d_m, 0.01, 200), [d_c]]))[::-1]
+    path = np.concatenate([load, unload])
+    forces, _ = jkr_path(path)
+    curves = {"displacement": path, "normal_force": forces}
+    res = unloading(curves, load.size, path.size - 1)
+    assert res.pull_off_force == pytest.approx(ad.jkr_pull_off_force(R_EFF, E_STAR, W), rel=1e-9)
+    assert res.pull_off_displacement == pytest.approx(d_c, rel=1e-12)
+    # Work of separation: the tensile area under the unloading branch, quadrature of (J-F, J-δ).
+    b = np.linspace(ad.jkr_jump_out_half_width(R_EFF, E_STAR, W), 0.2, 20001)
+    p = np.array([ad.jkr_force(x, R_EFF, E_STAR, W) for x in b])
+    dd = np.array([ad.jkr_approach(x, R_EFF, E_STAR, W) for x in b])
+    exact = -np.trapezoid(np.minimum(p, 0.0), dd)
+    assert res.work_of_separation == pytest.approx(exact, rel=2e-2)
+    assert res.work_of_separation > 0
+    assert cycle_energy(curves, 0, path.size - 1).work > 0
+    with pytest.raises(ParameterError):
+        unloading(curves, 0, load.size - 1)  # δ_N increases
+    with pytest.raises(ParameterError):
+        cycle_energy(curves, 5, 5)
+
+
+def test_residual_displacement_of_a_plastic_unloading() -> None:
+    from splinecontact.law_analysis import unloading
+
+    d_c = pl.critical_interference(R_EFF, E_STAR, SY, NU)
+    path = np.concatenate([np.linspace(0, 10 * d_c, 51), np.linspace(10 * d_c, 0, 51)[1:]])
+    forces, _ = plastic_path(path)
+    res = unloading({"displacement": path, "normal_force": forces}, 50, path.size - 1)
+    assert res.pull_off_force == 0.0 and res.work_of_separation == 0.0
+    expected = pl.residual_interference(10 * d_c, forces[50], E_STAR)
+    assert res.residual_displacement == pytest.approx(expected, rel=1e-9)
