@@ -250,6 +250,8 @@ class JKR:
     code: ClassVar[int] = 1
     name: ClassVar[str] = "jkr"
     n_state: ClassVar[int] = N_STATE
+    #: The reach depends on the largest R_eff (``bind`` needs it).
+    needs_radius: ClassVar[bool] = True
 
     work_of_adhesion: float = 0.1
     reach_bound: float = field(default=0.0, repr=False, compare=False)
@@ -347,6 +349,8 @@ class DMT:
     code: ClassVar[int] = 2
     name: ClassVar[str] = "dmt"
     n_state: ClassVar[int] = 0
+    #: The reach h0 does not depend on R_eff.
+    needs_radius: ClassVar[bool] = False
 
     work_of_adhesion: float = 0.1
     cohesive_stress: float = 1.0
@@ -711,6 +715,8 @@ class MaugisDugdale:
     code: ClassVar[int] = 3
     name: ClassVar[str] = "maugis-dugdale"
     n_state: ClassVar[int] = N_STATE
+    #: The reach depends on the largest R_eff (``bind`` needs it).
+    needs_radius: ClassVar[bool] = True
 
     work_of_adhesion: float = 0.1
     cohesive_stress: float = 1.0
