@@ -541,7 +541,7 @@ def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float
     (DMT-like) gives b_f at the lower end of the search (≈ 0) and δ_f = δ(0⁺), where it meets
     the branch without contact."""
     scale = _md_scale(r_eff, e_star, w, sigma0)
-    n = 64
+    n = 32
     lo = math.log(1e-7 * scale)
     hi = math.log(10.0 * scale)
     best = 0
