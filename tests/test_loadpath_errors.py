@@ -17,7 +17,7 @@ from splinecontact import (
     simulate,
     weierstrass_mandelbrot_pair,
 )
-from splinecontact.friction import FrictionAnalysisError, dilatancy, static_friction
+from splinecontact.analysis import FrictionAnalysisError, dilatancy, static_friction
 from splinecontact.loadpath import ForceControlError, LoadPathError
 from splinecontact.results import PATH_STEP_VARIABLES, STEP_VARIABLES
 

@@ -8,9 +8,9 @@ Units throughout: lengths µm, moduli GPa, forces mN per µm of out-of-plane thi
 (1 GPa · 1 µm² = 1 mN).
 
 The names of ``__all__`` are the core API. The documented modules ``analysis``, ``bem``,
-``compare``, ``config``, ``diagnostics``, ``friction``, ``generate``, ``io``, ``loadpath``,
-``outputs``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``spectra``
-and ``study`` are imported on first use, so
+``compare``, ``diagnostics``, ``generate``, ``io``, ``loadpath``, ``outputs``,
+``parameters``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``schema``,
+``spectra`` and ``study`` are imported on first use, so
 ``splinecontact.study.run_study`` works after a plain ``import splinecontact``.
 """
 
@@ -63,18 +63,18 @@ _SUBMODULES = (
     "analysis",
     "bem",
     "compare",
-    "config",
     "diagnostics",
-    "friction",
     "generate",
     "io",
     "loadpath",
     "outputs",
+    "parameters",
     "plotting",
     "preprocess",
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 )

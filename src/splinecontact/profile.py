@@ -105,6 +105,14 @@ class Profile:
     Notes
     -----
     The arrays are copied and made read-only, so a profile never changes after construction.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from splinecontact import Profile
+    >>> profile = Profile(np.linspace(0.0, 1.0, 5), np.array([0.0, 1.0, 0.0, -1.0, 0.0]))
+    >>> profile.dx, profile.ra, round(profile.rq, 6)
+    (0.25, 0.4, 0.632456)
     """
 
     x: NDArray[np.float64]

@@ -98,8 +98,8 @@ def register(app: typer.Typer) -> None:
         Prints μ_s, k_T and the dissipated work when the path moves the body tangentially.
         Nothing is written when anything fails.
         """
+        from ..analysis import FrictionAnalysisError, static_friction, tangential_stiffness
         from ..contact import simulate
-        from ..friction import FrictionAnalysisError, static_friction, tangential_stiffness
         from ..loadpath import parse_path
         from ..outputs import check_output_file
         from ._measured import _check_result_suffix, write_result

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ..errors import OutputError, ParameterError, ProfileReadError
+from ..errors import OutputWriteError, ParameterError, ProfileReadError
 from ._common import (
     BODY_SPEC_HELP,
     BodySpec,
@@ -58,10 +58,6 @@ __all__ = [
 
 #: Result file formats of ``simulate -o``, by extension.
 RESULT_SUFFIXES = {".nc": "netCDF-4", ".csv": "CSV, units in the header"}
-
-
-class OutputWriteError(OutputError):
-    """The result file cannot be written (e.g. the netCDF-4 backend is missing)."""
 
 
 def _check_result_suffix(output: Path) -> None:

@@ -399,6 +399,19 @@ def read_profile(
         :func:`splinecontact.preprocess.to_profile`).
     OSError
         The file cannot be opened.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact import read_profile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = pathlib.Path(folder) / "scan.csv"
+    ...     _ = path.write_text("x [um],z [nm]\\n0,0\\n0.5,100\\n1.0,-100\\n1.5,50\\n2.0,0\\n")
+    ...     profile = read_profile(path)
+    >>> profile.n_points, profile.dx
+    (5, 0.5)
+    >>> profile.z  # heights converted from nm to µm
+    array([ 0.  ,  0.1 , -0.1 ,  0.05,  0.  ])
     """
     raw = read_raw(
         path,

@@ -29,14 +29,13 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SplineContactError
+from ..errors import InstrumentFileError, SplineContactError
 from ..preprocess import RawProfile
 from ._errors import (
     FileTooLargeError,
     LineSelectionError,
     MissingExtraError,
     MissingUnitsError,
-    ProfileReadError,
     UnitError,
 )
 from ._limits import DEFAULT_MAX_POINTS, check_points, one_line
@@ -67,10 +66,6 @@ INSTRUMENT_EXTENSIONS = frozenset(
 AMBIGUOUS_EXTENSIONS = frozenset({".dat"})
 
 INSTALL_HINT = 'pip install "splinecontact[instruments]"'
-
-
-class InstrumentFileError(ProfileReadError):
-    """SurfaceTopography could not read an instrument file (damaged, or unsupported variant)."""
 
 
 def _import_surfacetopography() -> Any:

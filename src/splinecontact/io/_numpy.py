@@ -24,13 +24,13 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import NumpyFileError
 from ..preprocess import RawProfile
 from ._errors import (
     CorruptFileError,
     LineSelectionError,
     MissingSpacingError,
     MissingUnitsError,
-    ProfileReadError,
     ReadOptionError,
     UnitError,
 )
@@ -52,10 +52,6 @@ _HEADER_ERRORS = (
     tokenize.TokenError,
     *ZIP_ERRORS,
 )
-
-
-class NumpyFileError(ProfileReadError):
-    """A NumPy file does not hold a profile in a form splinecontact understands."""
 
 
 class _Counting:

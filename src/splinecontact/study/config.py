@@ -28,8 +28,9 @@ An optional load path replaces ``steps`` and ``final_displacement`` by a sequenc
     tangential = 0.5            # u_T [µm] at the segment's end
     steps = 100
 
-Every parameter a study can fix or sweep is listed in :data:`PARAMETERS` with its type, range,
-default, unit and meaning. Unknown keys, wrong types and out-of-range values are refused with a
+Every parameter a study can fix or sweep is listed in :data:`PARAMETERS` (built from the
+registry :data:`splinecontact.parameters.PARAMETERS`) with its type, range, default, unit and
+meaning. Unknown keys, wrong types and out-of-range values are refused with a
 :class:`~splinecontact.errors.StudyConfigError` whose one-line message names the key path and the
 reason, for example ``sweep.dimension[2] = 2.5: must be ≤ 2``.
 """
@@ -55,15 +56,15 @@ from pydantic import (
     model_validator,
 )
 
-from .errors import StudyConfigError
+from ..errors import StudyConfigError
+from ..parameters import PARAMETERS as MODEL_PARAMETERS
+from ..parameters import Parameter
 
 __all__ = [
     "PARAMETERS",
     "ParameterSpec",
     "PathSegmentSpec",
     "StudyConfig",
-    "StudyLimits",
-    "check_limits",
     "format_toml_value",
     "load_study",
     "parse_study",
@@ -76,14 +77,24 @@ _MAX_FREQUENCY_DECADES = 300
 
 #: Floats are finite: ``inf`` and ``nan`` (valid TOML) are refused, as by the API.
 Positive = Annotated[float, Field(gt=0.0, allow_inf_nan=False)]
-NonNegative = Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
-#: Lengths [µm] within the engine's range (1e50 µm, as the API checks), refused before a run.
-Length = Annotated[float, Field(gt=0.0, le=1e50, allow_inf_nan=False)]
+
+
+def _annotation(parameter: Parameter) -> Any:
+    """The pydantic type of one value of ``parameter`` (its kind, range and words)."""
+    if parameter.choices is not None:
+        annotation: Any = Literal[parameter.choices]
+    elif parameter.kind is float:
+        annotation = Annotated[float, Field(**parameter.bounds, allow_inf_nan=False)]
+    elif parameter.kind is int:
+        annotation = Annotated[int, Field(**parameter.bounds)]
+    else:
+        annotation = parameter.kind
+    return annotation | None if parameter.optional else annotation
 
 
 @dataclass(frozen=True)
 class ParameterSpec:
-    """One simulation parameter a study can fix or sweep.
+    """One simulation parameter a study can fix or sweep (built from the parameter registry).
 
     Attributes
     ----------
@@ -91,7 +102,7 @@ class ParameterSpec:
         The pydantic type of one value (with its range).
     default : object
         The value used when the study file neither fixes nor sweeps the parameter (``None``:
-        the engine's own default, e.g. G* = E*/2.6).
+        the engine's own default, e.g. G* = E*/2.6, or a required parameter).
     unit : str
         Unit of the value (``"1"`` for dimensionless, ``""`` for words).
     description : str
@@ -104,57 +115,16 @@ class ParameterSpec:
     description: str
 
 
-#: The simulation parameters of one realization, by name (the names are the study schema).
+#: The simulation parameters of one realization, by name (the names are the study schema),
+#: built from :data:`splinecontact.parameters.PARAMETERS`.
 PARAMETERS: dict[str, ParameterSpec] = {
-    "dimension": ParameterSpec(
-        Annotated[float, Field(ge=1.0, le=2.0, allow_inf_nan=False)],
-        None,
-        "1",
-        "fractal dimension D (eq. 1); required",
-    ),
-    "contact_type": ParameterSpec(
-        Literal["rough-on-rough", "rough-on-flat"],
-        "rough-on-rough",
-        "",
-        "two rough profiles, or one rough profile against a rigid flat",
-    ),
-    "alpha": ParameterSpec(Positive, 2.0, "1", "spline tightness exponent α (eq. 3)"),
-    "x0": ParameterSpec(Length, 1.0, "µm", "spline unit length x0 (eqs. 2–3)"),
-    "e_star": ParameterSpec(Positive, 10.0, "GPa", "effective modulus E* (eq. 10)"),
-    "g_star": ParameterSpec(
-        Positive | None, None, "GPa", "effective shear modulus G* (eq. 11); default E*/2.6"
-    ),
-    "mu0": ParameterSpec(NonNegative, 0.3, "1", "friction coefficient μ0 (eq. 13)"),
-    "steps": ParameterSpec(Annotated[int, Field(ge=1)], 1000, "1", "displacement increments"),
-    "final_displacement": ParameterSpec(
-        Length | None,
-        None,
-        "µm",
-        "final displacement δ_N; default final_displacement_factor × amplitude",
-    ),
-    "final_displacement_factor": ParameterSpec(
-        Positive, 0.2, "1", "final displacement as a fraction of the lower profile's amplitude"
-    ),
-    "n_points": ParameterSpec(Annotated[int, Field(ge=8)], 1_000_000, "1", "grid points"),
-    "length": ParameterSpec(Length, 100.0, "µm", "profile length L (eq. 1)"),
-    "wavelength": ParameterSpec(Length, 1.0, "µm", "longest wavelength parameter (eq. 1)"),
-    "gamma": ParameterSpec(
-        Annotated[float, Field(gt=1.0, allow_inf_nan=False)],
-        1.5,
-        "1",
-        "frequency density γ (eq. 1)",
-    ),
-    "directions": ParameterSpec(
-        Annotated[int, Field(ge=1)], 20, "1", "number of ridge directions M (eq. 1)"
-    ),
-    "n_max": ParameterSpec(Annotated[int, Field(ge=0)], 20, "1", "highest frequency index (eq. 1)"),
-    "ra": ParameterSpec(Length, 0.005, "µm", "mean roughness R_A the heights are scaled to"),
-    "amplitude_law": ParameterSpec(
-        Literal["hurst", "as_printed"],
-        "hurst",
-        "",
-        "amplitude law of eq. 1: γ^{n(D−2)} (hurst) or γ^{2n(D−2)} (as printed)",
-    ),
+    name: ParameterSpec(
+        _annotation(parameter),
+        None if parameter.required else parameter.default,
+        parameter.unit,
+        parameter.description,
+    )
+    for name, parameter in MODEL_PARAMETERS.items()
 }
 
 
@@ -300,11 +270,11 @@ class StudyConfig(BaseModel):
         The same checks as :func:`splinecontact.fit_spline`, made before anything is written
         (otherwise every realization would fail with them).
         """
-        from .errors import ParameterError
-        from .spline import _MAX_GRID_LAMBDA, smoothing_parameter
+        from ..errors import ParameterError
+        from ..spline import _MAX_GRID_LAMBDA, smoothing_parameter
 
         names = ("length", "n_points", "alpha", "x0")
-        values = [sorted(set(self._values(name))) for name in names]
+        values = [sorted(set(self.parameter_values(name))) for name in names]
         if math.prod(len(v) for v in values) > 100_000:
             return  # the engine still checks each realization
         for length, n_points, alpha, x0 in itertools.product(*values):
@@ -322,8 +292,8 @@ class StudyConfig(BaseModel):
 
     def _check_frequencies(self) -> None:
         """γ^n_max (the highest frequency of eq. 1, relative to the lowest) must be a float."""
-        gammas = self._values("gamma")
-        n_maxes = self._values("n_max")
+        gammas = self.parameter_values("gamma")
+        n_maxes = self.parameter_values("n_max")
         gamma, n_max = max(gammas), max(n_maxes)
         if n_max * math.log10(gamma) > _MAX_FREQUENCY_DECADES:
             where_n = "sweep.n_max" if "n_max" in self._swept_names_unordered() else "fixed.n_max"
@@ -333,7 +303,8 @@ class StudyConfig(BaseModel):
                 f"n_max · log10(γ) ≤ {_MAX_FREQUENCY_DECADES}"
             )
 
-    def _values(self, name: str) -> list[Any]:
+    def parameter_values(self, name: str) -> list[Any]:
+        """The values parameter ``name`` takes in the study (its default if not given)."""
         swept = getattr(self.sweep, name)
         if swept is not None:
             return list(swept)
@@ -609,117 +580,3 @@ def load_study(path: str | Path) -> StudyConfig:
             f"study file {path}: not a study file (arrays or tables nested too deeply)"
         ) from None
     return parse_study(data, source=str(path))
-
-
-# --- ceilings -----------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class StudyLimits:
-    """Ceilings on the size of a study, checked before anything is allocated or written.
-
-    A valid study file can still describe a run that would exhaust memory or disk, or run for
-    months. :func:`check_limits` refuses such a study with one line that names the ceiling and
-    how to raise it (``--limit NAME=VALUE`` on the command line, ``limits=StudyLimits(...)`` in
-    Python). The defaults are far above the paper's study (4000 realizations of 10⁶ points and
-    1000 steps).
-
-    Attributes
-    ----------
-    steps : int
-        Most displacement increments of one simulation [1] (default 10⁶).
-    points_terms : int
-        Most ``n_points × directions × (n_max + 1)`` of one generated profile [1]: the
-        generator's work, one cosine per point and term (default 10¹⁰; the paper: 4.2·10⁸).
-    grid_points : int
-        Most points of the sweep grid (the product of the swept lists' lengths) [1]
-        (default 10⁴).
-    realizations : int
-        Most realizations in the whole study, ``realizations × grid points`` [1] (default 10⁶).
-    realization_points : int
-        Most profile points simulated in the whole study, ``realizations × grid points ×
-        n_points`` [1] (default 10¹¹; the paper: 4·10⁹).
-    stored_values : int
-        Most values of one per-step variable in the store, ``realizations × grid points ×
-        (steps + 1)`` [1] (default 10⁸, 800 MB per variable in memory; the paper: 4·10⁶).
-    """
-
-    steps: int = 1_000_000
-    points_terms: int = 10**10
-    grid_points: int = 10_000
-    realizations: int = 1_000_000
-    realization_points: int = 10**11
-    stored_values: int = 10**8
-
-    @classmethod
-    def parse(cls, items: Sequence[str], base: StudyLimits | None = None) -> StudyLimits:
-        """Apply ``NAME=VALUE`` items (the CLI's ``--limit``) to ``base`` (default: defaults).
-
-        Raises
-        ------
-        StudyConfigError
-            Unknown name, or a value that is not a positive integer.
-        """
-        import dataclasses
-
-        names = [f.name for f in dataclasses.fields(cls)]
-        values = dataclasses.asdict(base or cls())
-        for item in items:
-            name, sep, text = item.partition("=")
-            name = name.strip().replace("-", "_")
-            if not sep or name not in names:
-                raise StudyConfigError(
-                    f"--limit {item!r}: give NAME=VALUE with NAME one of {', '.join(names)}"
-                )
-            try:
-                number = float(text.replace("_", ""))
-            except ValueError:
-                number = math.nan
-            if not (math.isfinite(number) and number >= 1 and number == int(number)):
-                raise StudyConfigError(
-                    f"--limit {item!r}: {text.strip()!r} is not a positive integer"
-                )
-            values[name] = int(number)
-        return cls(**values)
-
-
-def check_limits(config: StudyConfig, limits: StudyLimits | None = None) -> None:
-    """Refuse a study above one of the ceilings of ``limits`` (see :class:`StudyLimits`).
-
-    Parameters
-    ----------
-    config : StudyConfig
-        The validated study.
-    limits : StudyLimits, optional
-        The ceilings (default: :class:`StudyLimits` ()).
-
-    Raises
-    ------
-    StudyConfigError
-        With one line naming the quantity, its value, the ceiling and how to raise it.
-    """
-    limits = StudyLimits() if limits is None else limits
-    grid = config.n_grid_points
-    total = grid * config.study.realizations
-    n_points = max(config._values("n_points"))
-    terms = max(config._values("directions")) * (max(config._values("n_max")) + 1)
-    checks = [
-        ("steps", config.max_steps, "steps of one simulation"),
-        ("points_terms", n_points * terms, "n_points × directions × (n_max + 1) of one profile"),
-        ("grid_points", grid, "points of the sweep grid"),
-        ("realizations", total, "realizations × grid points"),
-        ("realization_points", total * n_points, "realizations × grid points × n_points"),
-        (
-            "stored_values",
-            total * (config.max_steps + 1),
-            "realizations × grid points × (steps + 1)",
-        ),
-    ]
-    for name, value, what in checks:
-        ceiling = getattr(limits, name)
-        if value > ceiling:
-            raise StudyConfigError(
-                f"study {config.study.name!r}: {what} = {value:,} is above the ceiling "
-                f"{name} = {ceiling:,}; make the study smaller, or raise the ceiling with "
-                f"--limit {name}={value} (Python: limits=StudyLimits({name}={value}))"
-            )

@@ -1,4 +1,4 @@
-"""Figures of load paths: F_T against u_T (hysteresis loops) and the force history.
+"""Friction figures: F_T against u_T (hysteresis loops), the force history, μ_s or k_T/k_N vs D.
 
 Figures are :class:`matplotlib.figure.Figure` objects (Agg backend), axes labelled with units.
 """
@@ -9,13 +9,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .plotting import new_axes
-from .results import SimulationResult
+from ..results import SimulationResult
+from ._base import new_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["plot_friction_loop", "plot_path_history"]
+__all__ = ["plot_friction_loop", "plot_path_history", "plot_study_vs_dimension"]
 
 
 def plot_friction_loop(
