@@ -473,7 +473,7 @@ def test_unknown_law_lists_the_known_ones() -> None:
 
 
 def test_unloading_analysis_on_a_jkr_path() -> None:
-    from splinecontact.law_analysis import cycle_energy, unloading
+    from splinecontact.analysis.laws import cycle_energy, unloading
 
     d_m = ad.jkr_approach(ad.jkr_jump_out_half_width(R_EFF, E_STAR, W), R_EFF, E_STAR, W)
     b_c = ad.jkr_pull_off_half_width(R_EFF, E_STAR, W)
@@ -501,7 +501,7 @@ def test_unloading_analysis_on_a_jkr_path() -> None:
 
 
 def test_residual_displacement_of_a_plastic_unloading() -> None:
-    from splinecontact.law_analysis import unloading
+    from splinecontact.analysis.laws import unloading
 
     d_c = pl.critical_interference(R_EFF, E_STAR, SY, NU)
     path = np.concatenate([np.linspace(0, 10 * d_c, 51), np.linspace(10 * d_c, 0, 51)[1:]])
