@@ -175,7 +175,7 @@ def test_jkr_loop_dissipates() -> None:
     r_eff=st.floats(1e-2, 1e3),
     e_star=st.floats(0.1, 500.0),
     w_jm2=st.floats(1e-3, 10.0),
-    fraction=st.floats(0.0, 3.0),
+    fraction=st.floats(1e-3, 3.0),  # away from the fold, where δ(b) is flat to rounding
 )
 def test_jkr_stable_branch_property(
     r_eff: float, e_star: float, w_jm2: float, fraction: float

@@ -445,7 +445,12 @@ def _md_t(b: float, r_eff: float, e_star: float, w: float, sigma0: float) -> flo
     r = 0.5 * r_eff
     a_k = 4.0 * sigma0 / (_PI * e_star)
     lo = 0.0
-    hi = 1.0
+    # Start near the root: the smaller of the roots of the two terms' leading orders
+    # (a_k b t²/2 = h0 and b² t³/(3R) = h0), then double until the residual is ≥ 0.
+    h0 = w / sigma0
+    hi = min(math.sqrt(2.0 * h0 / (a_k * b)), (3.0 * r * h0 / (b * b)) ** (1.0 / 3.0))
+    if not hi > 0.0:
+        hi = 1.0
     for _ in range(2000):
         if md_gap_residual(b, hi, r_eff, e_star, w, sigma0) >= 0.0:
             break
