@@ -658,7 +658,9 @@ def md_evaluate(
     r_eff, e_star, w, sigma0 : float
         R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
     state : ndarray
-        The contact's :data:`N_STATE` history values (branch, b, cached R_eff, b_f, δ_f).
+        The contact's :data:`N_STATE` values (branch, b, cached R_eff, b_f, δ_f). Only the
+        fold memo (the last three, a function of R_eff alone) is written here; the caller stores
+        the returned branch and b when the step is committed.
 
     Returns
     -------
@@ -675,6 +677,10 @@ def md_evaluate(
         d_f = state[4]
     else:
         b_f, d_f = md_fold(r_eff, e_star, w, sigma0)
+        # Memo of a pure function of R_eff (not history): a trial evaluation may keep it.
+        state[2] = r_eff
+        state[3] = b_f
+        state[4] = d_f
     a_k = 4.0 * sigma0 / (_PI * e_star)
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:
