@@ -24,10 +24,10 @@ DOCUMENTED_MODULES = {
     "analysis",
     "bem",
     "compare",
+    "contact",
     "diagnostics",
     "generate",
     "io",
-    "loadpath",
     "outputs",
     "parameters",
     "plotting",
@@ -62,7 +62,7 @@ def test_dir_shows_the_public_names_and_documented_modules_only() -> None:
     names = set(dir(splinecontact))
     assert names - set(splinecontact.__all__) == DOCUMENTED_MODULES
     assert set(splinecontact.__all__) <= names
-    for stray in ("annotations", "version", "PackageNotFoundError", "contact", "spline"):
+    for stray in ("annotations", "version", "PackageNotFoundError", "loadpath", "spline"):
         assert stray not in names
 
 

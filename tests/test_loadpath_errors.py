@@ -18,7 +18,7 @@ from splinecontact import (
     weierstrass_mandelbrot_pair,
 )
 from splinecontact.analysis import FrictionAnalysisError, dilatancy, static_friction
-from splinecontact.loadpath import ForceControlError, LoadPathError
+from splinecontact.contact import ForceControlError, LoadPathError
 from splinecontact.results import PATH_STEP_VARIABLES, STEP_VARIABLES
 
 from conftest import ANGSTROM, circle_cap, circle_cup

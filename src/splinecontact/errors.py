@@ -305,6 +305,20 @@ class UnsafeOutputError(OutputError):
     """Writing there could destroy something splinecontact did not create (or an input)."""
 
 
+# === contact stage (splinecontact.contact) =======================================================
+
+
+class LoadPathError(ParameterError):
+    """A load path or one of its segments is malformed."""
+
+
+class ForceControlError(LoadPathError):
+    """A force-controlled segment asks for a normal force the contact cannot carry."""
+
+
+__all__ += ["ForceControlError", "LoadPathError"]
+
+
 # === analysis stage (splinecontact.analysis, splinecontact.reproduce) =========================
 
 __all__ += ["AnalysisError", "FrictionAnalysisError"]

@@ -97,9 +97,8 @@ def friction_study(
         Every ``FRICTION_STUDY_VARIABLES`` name on (dimension, realization), plus
         ``<name>_mean`` and ``<name>_ci`` (half-width) on (dimension); units in attributes.
     """
-    from ..contact import simulate
+    from ..contact import Segment, simulate
     from ..generate import weierstrass_mandelbrot_pair
-    from ..loadpath import Segment
 
     dims = [float(d) for d in dimensions]
     seed_list = [int(s) for s in seeds]

@@ -49,11 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ProfileReadError
-from ..preprocess import Preprocessing, RawProfile, to_profile
-from ..profile import Profile
-from ..results import jsonable
-from ._errors import (
+from ..errors import (
     CorruptFileError,
     EmptyFileError,
     FileTooLargeError,
@@ -64,11 +60,15 @@ from ._errors import (
     MissingSpacingError,
     MissingUnitsError,
     NoDataError,
+    ProfileReadError,
     ReadOptionError,
     UnitError,
     UnknownFormatError,
     X3PError,
 )
+from ..preprocess import Preprocessing, RawProfile, to_profile
+from ..profile import Profile
+from ..results import jsonable
 from ._instruments import (
     AMBIGUOUS_EXTENSIONS,
     INSTRUMENT_EXTENSIONS,

@@ -29,15 +29,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InstrumentFileError, SplineContactError
-from ..preprocess import RawProfile
-from ._errors import (
+from ..errors import (
     FileTooLargeError,
+    InstrumentFileError,
     LineSelectionError,
     MissingExtraError,
     MissingUnitsError,
+    SplineContactError,
     UnitError,
 )
+from ..preprocess import RawProfile
 from ._limits import DEFAULT_MAX_POINTS, check_points, one_line
 from ._units import UNIT_FACTORS, normalize_unit
 

@@ -20,6 +20,7 @@ import hashlib
 import math
 import zipfile
 import zlib
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -29,16 +30,27 @@ from xml.parsers import expat
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import DamagedX3PError
+from ..errors import (
+    DamagedX3PError,
+    FileTooLargeError,
+    LineSelectionError,
+    ProfileReadError,
+    X3PError,
+)
 from ..preprocess import RawProfile
-from ._errors import FileTooLargeError, LineSelectionError, X3PError
-from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
+from ._limits import (
+    DEFAULT_MAX_POINTS,
+    MAX_XML_BYTES,
+    check_points,
+    one_line,
+    read_chunks,
+    read_exact,
+)
 
-__all__ = ["DamagedX3PError", "read_x3p"]
+__all__ = ["ZIP_ERRORS", "DamagedX3PError", "open_zip", "read_x3p"]
 
 _DTYPES = {"I": "<u2", "L": "<u4", "F": "<f4", "D": "<f8"}  # I, L unsigned (openGPS)
 _METRE_TO_UM = 1e6
-_CHUNK = 1 << 20
 #: Errors of the zip and zlib modules on damaged archives (wrapped in DamagedX3PError).
 ZIP_ERRORS = (
     zipfile.BadZipFile,
@@ -51,6 +63,22 @@ ZIP_ERRORS = (
     ValueError,
     OverflowError,
 )
+
+
+def open_zip(
+    path: Path,
+    handle: IO[bytes],
+    not_zip: Callable[[str], ProfileReadError],
+    damaged: type[ProfileReadError],
+) -> zipfile.ZipFile:
+    """Open a zip archive; a file that is no zip raises ``not_zip(reason)``, a damaged one
+    ``damaged`` (both without the zip module's traceback)."""
+    try:
+        return zipfile.ZipFile(handle)
+    except zipfile.BadZipFile as exc:
+        raise not_zip(one_line(exc)) from None
+    except ZIP_ERRORS as exc:
+        raise damaged(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
 
 
 class _Forbidden(Exception):
@@ -176,24 +204,16 @@ def _stream_rows(
     """Read a member of ``size`` bytes in chunks, hash all of it, keep bytes ``keep[0]:keep[1]``."""
     kept = bytearray()
     pos = 0
-    while pos < size:
-        chunk = stream.read(min(_CHUNK, size - pos))
-        if not chunk:
-            raise DamagedX3PError(
-                f"{path}: {what} ends after {pos:,} bytes but {size:,} were declared; the file "
-                "is truncated or damaged"
-            )
+    chunks = read_chunks(
+        path, stream, size, what, error=DamagedX3PError, declared="its directory entry declares"
+    )
+    for chunk in chunks:
         if md5 is not None:
             md5.update(chunk)
         lo, hi = max(keep[0], pos), min(keep[1], pos + len(chunk))
         if lo < hi:
             kept += chunk[lo - pos : hi - pos]
         pos += len(chunk)
-    if stream.read(1):
-        raise DamagedX3PError(
-            f"{path}: {what} holds more than the {size:,} bytes its directory entry declares; "
-            "the file is damaged or forged"
-        )
     return bytes(kept)
 
 
@@ -220,14 +240,12 @@ def read_x3p(
         ``main.xml`` declares more than ``max_points`` points, or is itself too large.
     """
     with open(path, "rb") as handle:  # OSError (missing, unreadable) propagates as such
-        try:
-            archive = zipfile.ZipFile(handle)
-        except zipfile.BadZipFile as exc:
-            raise X3PError(
-                f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})"
-            ) from None
-        except ZIP_ERRORS as exc:
-            raise DamagedX3PError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
+        archive = open_zip(
+            path,
+            handle,
+            lambda why: X3PError(f"{path}: not a valid X3P file (not a zip archive: {why})"),
+            DamagedX3PError,
+        )
         with archive:
             return _read_archive(path, archive, line=line, max_points=max_points)
 

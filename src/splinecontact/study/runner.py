@@ -129,7 +129,7 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     sim = {k: parameters[k] for k in SIMULATION_PARAMETERS}
     segments = parameters.get("path")
     if segments is not None:
-        from ..loadpath import Segment
+        from ..contact import Segment
 
         for name in PATH_REPLACES:
             sim.pop(name, None)

@@ -26,22 +26,17 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _path_kernel as _k
-from .errors import ParameterError
-from .profile import Profile
-from .results import ContactRecord, SimulationResult
-from .spheres import own_frame_geometry
-from .spline import SplineFit, fit_spline
+from ..errors import ForceControlError, LoadPathError, ParameterError
+from ..profile import Profile
+from ..results import ContactRecord, SimulationResult
+from ..spheres import own_frame_geometry
+from ..spline import SplineFit, fit_spline
+from . import path_kernel as _k
+from .geometry import contact_geometry
+from .laws import ContactLaw, Hertz, check_law, kernel_material
+from .segments import Segment, validate_path
 
-__all__ = [
-    "ForceControlError",
-    "LoadPathError",
-    "Segment",
-    "parse_path",
-    "run_path",
-    "simulate_path",
-    "validate_path",
-]
+__all__ = ["FORCE_RTOL", "run_path", "simulate_path"]
 
 #: Relative tolerance to which a force-controlled step meets its target F_N.
 FORCE_RTOL = 1e-9
@@ -56,169 +51,62 @@ _PER_SUPER = 16
 _CHUNK_CELLS = 48
 
 
-class LoadPathError(ParameterError):
-    """A load path or one of its segments is malformed."""
-
-
-class ForceControlError(LoadPathError):
-    """A force-controlled segment asks for a normal force the contact cannot carry."""
-
-
-def _finite(name: str, value: Any, unit: str, index: int | None) -> float:
-    where = "" if index is None else f"segment {index}: "
-    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise LoadPathError(f"{where}{name} = {value!r} must be a number{unit}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise LoadPathError(f"{where}{name} = {value!r}{unit} must be finite")
-    return value
-
-
-@dataclass(frozen=True, kw_only=True)
-class Segment:
-    """One straight piece of a load path of the upper body.
-
-    Give at most one of ``normal`` (displacement control) or ``normal_force`` (force control);
-    with neither, δ_N stays where the previous segment left it (displacement control).
-
-    Parameters
-    ----------
-    normal : float, optional
-        Target normal displacement δ_N [µm] at the segment's end (positive presses the bodies
-        together; 0 is zero minimum gap at u_T = 0; negative values separate them). Default:
-        keep the current δ_N (unless ``normal_force`` is given).
-    normal_force : float, optional
-        Normal force F_N [mN/µm] held at every step of the segment (> 0).
-    tangential : float, optional
-        Target tangential displacement u_T [µm] of the upper body, positive along +x. Default:
-        keep the current shift.
-    steps : int
-        Number of equal increments [1] (≥ 1).
-    """
-
-    normal: float | None = None
-    normal_force: float | None = None
-    tangential: float | None = None
-    steps: int
-
-    def __post_init__(self) -> None:
-        if self.normal is not None and self.normal_force is not None:
-            raise LoadPathError(
-                f"Segment(normal={self.normal!r}, normal_force={self.normal_force!r}): give "
-                "at most one of normal (δ_N [µm], displacement control) or normal_force "
-                "(F_N [mN/µm], force control)"
-            )
-        if self.normal is not None:
-            object.__setattr__(self, "normal", _finite("normal", self.normal, " µm", None))
-        if self.normal_force is not None:
-            force = _finite("normal_force", self.normal_force, " mN/µm", None)
-            if not force > 0:
-                raise LoadPathError(
-                    f"normal_force = {force!r} mN/µm must be > 0 (to separate the bodies use "
-                    "a displacement segment, normal=...)"
-                )
-            object.__setattr__(self, "normal_force", force)
-        if self.tangential is not None:
-            object.__setattr__(
-                self, "tangential", _finite("tangential", self.tangential, " µm", None)
-            )
-        steps = self.steps
-        if isinstance(steps, bool) or not isinstance(steps, int | np.integer) or int(steps) < 1:
-            raise LoadPathError(f"steps = {steps!r} must be an integer ≥ 1")
-        object.__setattr__(self, "steps", int(steps))
-
-    @property
-    def force_controlled(self) -> bool:
-        """True when the segment holds F_N instead of prescribing δ_N."""
-        return self.normal_force is not None
-
-
-def validate_path(path: Iterable[Segment]) -> tuple[Segment, ...]:
-    """Check a load path and return it as a tuple.
-
-    Raises
-    ------
-    LoadPathError
-        The path is empty, or an element is not a :class:`Segment`.
-    """
-    if isinstance(path, Segment | str | bytes):
-        raise LoadPathError(
-            f"path = {path!r}: give a sequence of Segment, e.g. path=[Segment(normal=0.001, "
-            "steps=100)]"
-        )
-    try:
-        items = tuple(path)
-    except TypeError:
-        raise LoadPathError(f"path = {path!r} is not a sequence of Segment") from None
-    if not items:
-        raise LoadPathError("path is empty: give at least one Segment")
-    for index, item in enumerate(items):
-        if not isinstance(item, Segment):
-            raise LoadPathError(
-                f"path[{index}] = {item!r} is not a Segment; build it with "
-                "splinecontact.Segment(normal=..., tangential=..., steps=...)"
-            )
-    return items
-
-
 @dataclass(frozen=True, eq=False)
 class _Geometry:
-    f_l: NDArray[np.float64]
-    kappa_l: NDArray[np.float64]
-    nl_x: NDArray[np.float64]
-    nl_z: NDArray[np.float64]
-    f_u: NDArray[np.float64]
-    gamma_u: NDArray[np.float64]
-    slope_u: NDArray[np.float64]
-    curv_u: NDArray[np.float64]
-    envelope: NDArray[np.float64]
-    f_l_block: NDArray[np.float64]
-    envelope_block: NDArray[np.float64]
-    f_l_super: NDArray[np.float64]
-    envelope_super: NDArray[np.float64]
-    flat: bool
-    placement: float
-    dx: float
-    kappa_max: float
-    margin: float
+    surf: _k.Surfaces
+    cull: _k.Culling
     scale: float
+    surf_tuple: tuple[Any, ...]  # surf as a plain tuple (see path_kernel.path_step_from_python)
 
 
 class _State:
-    """Spring state (per grid cell) and scratch arrays of one path run."""
+    """Spring state (per grid cell), law state and scratch arrays of one path run."""
 
-    def __init__(self, n: int) -> None:
-        self.acc = np.zeros(n, dtype=np.bool_)
-        self.ft = np.zeros(n)
-        self.xc = np.zeros(n)
-        self.ex = np.zeros(n)
-        self.ez = np.zeros(n)
-        self.list = np.zeros(n, dtype=np.int64)
-        self.count = np.zeros(1, dtype=np.int64)
-        self.claimed = np.zeros(n, dtype=np.bool_)
+    def __init__(self, n: int, law: ContactLaw, e_star: float, g_star: float, mu0: float) -> None:
+        self.springs = _k.Springs(
+            acc=np.zeros(n, dtype=np.bool_),
+            ft=np.zeros(n),
+            xc=np.zeros(n),
+            ex=np.zeros(n),
+            ez=np.zeros(n),
+            cells=np.zeros(n, dtype=np.int64),
+            n_committed=np.zeros(1, dtype=np.int64),
+            claimed=np.zeros(n, dtype=np.bool_),
+        )
+        self.material = kernel_material(law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n)
+        # plain-tuple views for the calls from Python (path_kernel.path_step_from_python)
+        self.springs_tuple = tuple(self.springs)
+        self.material_tuple = tuple(self.material)
         self.cand_idx = np.empty(n, dtype=np.int64)
         self.cand_bound = np.empty(n)
         self.capacity = 0
-        self.scratch: tuple[NDArray[Any], ...] = ()
+        self.scratch = _scratch(0)
+        self.scratch_tuple: tuple[Any, ...] = ()
         self.ensure(16)
 
     def ensure(self, capacity: int) -> None:
         if capacity <= self.capacity:
             return
         self.capacity = capacity
-        self.scratch = (
-            np.empty(capacity, dtype=np.int64),  # idx
-            np.empty(capacity),  # fn
-            np.empty(capacity),  # ex
-            np.empty(capacity),  # ez
-            np.empty(capacity),  # xc
-            np.empty(capacity),  # z
-            np.empty(capacity),  # delta
-            np.empty(capacity),  # reff
-            np.empty(capacity),  # ft
-            np.empty(capacity, dtype=np.bool_),  # slip
-            np.empty(capacity, dtype=np.int64),  # src
-        )
+        self.scratch = _scratch(capacity)
+        self.scratch_tuple = tuple(self.scratch)
+
+
+def _scratch(capacity: int) -> _k.Scratch:
+    return _k.Scratch(
+        idx=np.empty(capacity, dtype=np.int64),
+        fn=np.empty(capacity),
+        ex=np.empty(capacity),
+        ez=np.empty(capacity),
+        xc=np.empty(capacity),
+        z=np.empty(capacity),
+        delta=np.empty(capacity),
+        reff=np.empty(capacity),
+        ft=np.empty(capacity),
+        slip=np.empty(capacity, dtype=np.bool_),
+        src=np.empty(capacity, dtype=np.int64),
+        width=np.empty(capacity),
+    )
 
 
 class _Candidates:
@@ -231,12 +119,10 @@ class _Candidates:
     def __init__(self, geo: _Geometry, state: _State, u: float, d_max: float) -> None:
         self.u = u
         self.d_max = d_max
-        centre = math.floor(-u / geo.dx)
+        centre = math.floor(-u / geo.surf.dx)
         count = _k.candidate_bounds(
-            geo.f_l, geo.f_l_block, geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super,
-            geo.envelope_super, _PER_SUPER, geo.flat, centre - 1, centre + 1,
-            geo.placement - d_max, geo.margin,
-            state.cand_idx, state.cand_bound,
+            geo.surf, geo.cull, centre - 1, centre + 1,
+            geo.surf.placement - d_max - state.material.reach, state.cand_idx, state.cand_bound,
         )  # fmt: skip
         self.idx = state.cand_idx[:count]
         self.bound = state.cand_bound[:count]
@@ -265,7 +151,7 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
     scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
     f_l_block = _k.block_max(f_l, _BLOCK)
     envelope_block = _k.block_max(envelope, _BLOCK)
-    return _Geometry(
+    surf = _k.Surfaces(
         f_l=f_l,
         kappa_l=kappa_l,
         nl_x=nl_x,
@@ -274,18 +160,22 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         gamma_u=gamma_u,
         slope_u=slope_u,
         curv_u=curv_u,
-        envelope=envelope,
-        f_l_block=f_l_block,
-        envelope_block=envelope_block,
-        f_l_super=_k.block_max(f_l_block, _PER_SUPER),
-        envelope_super=_k.block_max(envelope_block, _PER_SUPER),
         flat=flat,
         placement=placement,
         dx=dx,
         kappa_max=1.0 / r_min,
-        margin=1e-12 * scale,
-        scale=scale,
     )
+    cull = _k.Culling(
+        f_l_block=f_l_block,
+        envelope=envelope,
+        envelope_block=envelope_block,
+        block=_BLOCK,
+        f_l_super=_k.block_max(f_l_block, _PER_SUPER),
+        envelope_super=_k.block_max(envelope_block, _PER_SUPER),
+        per_super=_PER_SUPER,
+        margin=1e-12 * scale,
+    )
+    return _Geometry(surf=surf, cull=cull, scale=scale, surf_tuple=tuple(surf))
 
 
 def _step(
@@ -297,66 +187,20 @@ def _step(
     du: float,
     dd: float,
     commit: bool,
-    material: tuple[float, float, float],
-) -> tuple[Any, ...]:
-    e_star, g_star, mu0 = material
+) -> _k.StepSums:
     state.ensure(cands.idx.size + 1)
-    reach = 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / geo.dx), geo.f_l.size))
-    return _k.path_step(
-        u, d, du, dd, commit,
-        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
-        geo.curv_u, geo.flat,
-        geo.placement, geo.dx, geo.kappa_max, cands.idx, cands.bound, False,
-        e_star, g_star, mu0, reach,
-        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
-        state.claimed, *state.scratch,
+    # the formula of path_kernel.migrate_cells_of, run as Python (no dispatch per call)
+    migrate = _k.migrate_cells_of.py_func(du, dd, geo.surf.dx, geo.surf.f_l.size)
+    return _k.StepSums(
+        *_k.path_step_from_python(
+            u, d, du, dd, commit, geo.surf_tuple, cands.idx, cands.bound, state.material_tuple,
+            migrate, state.springs_tuple, state.scratch_tuple,
+        )
     )  # fmt: skip
 
 
-def _run(
-    geo: _Geometry,
-    state: _State,
-    material: tuple[float, float, float],
-    u_a: float,
-    d_a: float,
-    u_b: float,
-    d_b: float,
-    n_steps: int,
-    s_first: int,
-    s_last: int,
-    u_prev: float,
-    d_prev: float,
-    table: NDArray[np.float64],
-    row: int,
-) -> None:
-    """Compiled steps s_first … s_last of a displacement-controlled segment into ``table``."""
-    e_star, g_star, mu0 = material
-    state.ensure(geo.f_l.size)
-    args: tuple[Any, ...] = (
-        u_a, d_a, u_b, d_b, n_steps, s_first, s_last, u_prev, d_prev, float(_CHUNK_CELLS),
-        geo.f_l, geo.kappa_l, geo.nl_x, geo.nl_z, geo.f_u, geo.gamma_u, geo.slope_u,
-        geo.curv_u, geo.flat, geo.placement, geo.dx, geo.kappa_max, geo.f_l_block,
-        geo.envelope, geo.envelope_block, _BLOCK, geo.f_l_super, geo.envelope_super, _PER_SUPER,
-        geo.margin, state.cand_idx, state.cand_bound,
-        e_star, g_star, mu0,
-        state.acc, state.ft, state.xc, state.ex, state.ez, state.list, state.count,
-        state.claimed, *state.scratch, table, row,
-    )  # fmt: skip
-    _k.run_steps(*args)
-
-
-_NAMES = (
-    "normal_force",
-    "tangential_force",
-    "contact_area",
-    "n_contacts",
-    "n_slipping",
-    "step_work",
-    "normal_force_normal_part",
-    "normal_force_tangential_part",
-    "n_tilted_contacts",
-    "n_candidates",
-)
+#: The per-step sums of :func:`.path_kernel.path_step`, in table column order.
+_NAMES = _k.StepSums._fields
 
 
 def _solve_force(
@@ -440,6 +284,7 @@ def run_path(
     alpha: float,
     x0: float,
     record_steps: NDArray[np.int64] | None = None,
+    law: ContactLaw | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Follow a load path (the engine of ``simulate(..., path=...)``).
 
@@ -459,6 +304,8 @@ def run_path(
         Spline parameters α [1], x0 [µm].
     record_steps : array of int, optional
         Steps at which to keep the accepted contacts.
+    law : ContactLaw, optional
+        Local normal contact law (default :class:`.laws.Hertz`).
 
     Returns
     -------
@@ -466,55 +313,55 @@ def run_path(
         Per-step arrays (``STEP_VARIABLES`` and ``PATH_STEP_VARIABLES``) and recorded contacts.
     """
     segments = validate_path(path)
+    law = Hertz() if law is None else check_law(law)
     if fits is None:
         fit_l = fit_spline(lower, alpha=alpha, x0=x0)
         fit_u = None if isinstance(upper, str) else fit_spline(upper, alpha=alpha, x0=x0)
     else:
         fit_l, fit_u = fits
     geo = _prepare(lower, fit_l, fit_u)
-    n = geo.f_l.size
+    n = geo.surf.f_l.size
     total = 1 + sum(s.steps for s in segments)
     target = np.full(total, np.nan)
     record = np.zeros(total, dtype=np.bool_)
     if record_steps is not None and len(record_steps):
         record[record_steps] = True
     contacts: list[ContactRecord] = []
-    material = (e_star, g_star, mu0)
-    state = _State(n)
-    dx = geo.dx
+    state = _State(n, law, e_star, g_star, mu0)
+    dx = geo.surf.dx
 
-    # Per step: δ_N, u_T and the sums of _path_kernel.path_step (see _NAMES).
+    # Per step: δ_N, u_T and the sums of path_kernel.path_step (see _NAMES).
     table = np.zeros((total, 2 + len(_NAMES)))
 
     def store_contacts(k: int, m: int) -> None:
         s = state.scratch
-        idx = s[0][:m].copy()
+        idx = s.idx[:m].copy()
         contacts.append(
             ContactRecord(
                 step=k,
                 point=idx,
-                x=lower.x[idx] + (s[4][:m] - idx * dx),
-                z=s[5][:m].copy(),
-                overlap=s[6][:m].copy(),
-                effective_radius=s[7][:m].copy(),
-                normal_force=s[1][:m].copy(),
-                tangential_force=s[8][:m].copy(),
-                normal_x=s[2][:m].copy(),
-                normal_z=s[3][:m].copy(),
-                slipping=s[9][:m].copy(),
+                x=lower.x[idx] + (s.xc[:m] - idx * dx),
+                z=s.z[:m].copy(),
+                overlap=s.delta[:m].copy(),
+                effective_radius=s.reff[:m].copy(),
+                normal_force=s.fn[:m].copy(),
+                tangential_force=s.ft[:m].copy(),
+                normal_x=s.ex[:m].copy(),
+                normal_z=s.ez[:m].copy(),
+                slipping=s.slip[:m].copy(),
             )
         )
 
-    def store(k: int, d: float, u: float, values: tuple[Any, ...]) -> None:
+    def store(k: int, d: float, u: float, values: _k.StepSums) -> None:
         table[k, 0] = d
         table[k, 1] = u
         table[k, 2:] = values
         if record[k]:
-            store_contacts(k, int(values[3]))
+            store_contacts(k, int(values.n_contacts))
 
     # Step 0: zero minimum gap, no shift.
     first = _Candidates(geo, state, 0.0, 0.0)
-    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True, material))
+    store(0, 0.0, 0.0, _step(geo, first, state, 0.0, 0.0, 0.0, 0.0, True))
     k = 0
     u_cur = 0.0
     d_cur = 0.0
@@ -535,8 +382,12 @@ def run_path(
                     s_last = s
                 else:
                     s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
-                _run(geo, state, material, u_a, d_a, u_b, d_target, n_steps, s, s_last,
-                     u_cur, d_cur, table, k + s)  # fmt: skip
+                state.ensure(n)
+                _k.run_steps(
+                    u_a, d_a, u_b, d_target, n_steps, s, s_last, u_cur, d_cur,
+                    float(_CHUNK_CELLS), geo.surf, geo.cull, state.cand_idx, state.cand_bound,
+                    state.material, state.springs, state.scratch, table, k + s,
+                )  # fmt: skip
                 if record[k + s_last]:
                     store_contacts(k + s_last, int(table[k + s_last, 5]))
                 u_cur, d_cur = table[k + s_last, 1], table[k + s_last, 0]
@@ -554,12 +405,12 @@ def run_path(
                 nonlocal cands
                 if trial > cands.d_max:
                     cands = _Candidates(geo, state, _u, trial + margin)
-                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False, material)
+                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False)
 
             d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
             if d > cands.d_max:
                 cands = _Candidates(geo, state, u, d + margin)
-            values = _step(geo, cands, state, u, d, du, d - d_cur, True, material)
+            values = _step(geo, cands, state, u, d, du, d - d_cur, True)
             target[k + 1] = force
             k += 1
             store(k, d, u, values)
@@ -614,14 +465,15 @@ def simulate_path(
     alpha: float,
     x0: float,
     record_contacts: Iterable[int] | str | None,
+    law: ContactLaw | None = None,
 ) -> SimulationResult:
     """``simulate(lower, upper, path=...)`` with validated material parameters.
 
     Parameters are those of :func:`splinecontact.simulate` (E*, G* [GPa], μ0 [1], α [1],
-    x0 [µm]); ``steps`` must keep its default 1000 and ``final_displacement`` must be ``None``
-    (the path's segments set both).
+    x0 [µm], the contact law); ``steps`` must keep its default 1000 and
+    ``final_displacement`` must be ``None`` (the path's segments set both).
     """
-    from .contact import _record_steps, contact_geometry
+    from .simulation import _record_steps, build_result, spline_fits
 
     segments = validate_path(path)
     if final_displacement is not None:
@@ -637,105 +489,29 @@ def simulate_path(
     flat = isinstance(upper, str)
     if flat and upper != "flat":
         raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'")
-    reach = max(
+    extent = max(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-    fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
-    geometry, stats = contact_geometry(
-        lower, upper, steps=1, final_displacement=max(reach, lower.dx),
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    geometry = contact_geometry(
+        lower, upper, steps=1, final_displacement=max(extent, lower.dx),
         final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
     )  # fmt: skip
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
         lower, upper, segments, fits=(fit_l, fit_u), e_star=e_star, g_star=g_star, mu0=mu0,
-        alpha=alpha, x0=x0, record_steps=record_steps,
+        alpha=alpha, x0=x0, record_steps=record_steps, law=law,
     )  # fmt: skip
     curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
-    final = float(curves["displacement"][-1])
-    parameters: dict[str, Any] = {
-        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
-        "steps": total,
-        "final_displacement": final,
-        "final_displacement_factor": 0.2,
-        "e_star": e_star,
-        "g_star": g_star,
-        "mu0": mu0,
-        "alpha": float(alpha),
-        "x0": float(x0),
-        "r_min": 0.5 * lower.dx,
-        "dx": lower.dx,
-        "n_points": lower.n_points,
-        "length": lower.length,
-        "path": [
-            {
-                "normal": s.normal,
-                "normal_force": s.normal_force,
-                "tangential": s.tangential,
-                "steps": s.steps,
-            }
-            for s in segments
-        ],
-        "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
-    }
-    scalars = {**stats, "final_displacement": final}
-    return SimulationResult(
-        curves=curves,
-        scalars=scalars,
-        parameters=parameters,
-        contacts=contacts,
-        lower_metadata=dict(lower.metadata),
-        upper_metadata={"source": "flat"} if flat else dict(upper.metadata),  # type: ignore[union-attr]
-    )
-
-
-_SPEC_KEYS = {"normal": "normal", "force": "normal_force", "normal_force": "normal_force",
-              "tangential": "tangential", "steps": "steps"}  # fmt: skip
-
-
-def parse_path(text: str) -> tuple[Segment, ...]:
-    """A load path from text: segments separated by ``;``, each ``key=value`` pairs by ``,``.
-
-    Keys: ``normal`` (δ_N [µm]), ``force`` or ``normal_force`` (F_N [mN/µm]), ``tangential``
-    (u_T [µm]) and ``steps`` [1], e.g. ``"normal=0.001,steps=200; tangential=0.02,steps=400"``.
-
-    Raises
-    ------
-    LoadPathError
-        Empty text, an unknown key, a repeated key, a value that is not a number, or a bad
-        segment (see :class:`Segment`).
-    """
-    parts = [p.strip() for p in text.split(";")]
-    if not any(parts):
-        raise LoadPathError(f"path {text!r} is empty: give e.g. 'normal=0.001,steps=200'")
-    segments = []
-    for index, part in enumerate(parts):
-        if not part:
-            raise LoadPathError(f"path {text!r}: segment {index} is empty (stray ';')")
-        kwargs: dict[str, Any] = {}
-        for item in part.split(","):
-            key, sep, value = item.partition("=")
-            key = key.strip().lower()
-            if not sep or key not in _SPEC_KEYS:
-                raise LoadPathError(
-                    f"path segment {index} {part!r}: {item.strip()!r} is not key=value with key "
-                    "normal, force, tangential or steps"
-                )
-            name = _SPEC_KEYS[key]
-            if name in kwargs:
-                raise LoadPathError(f"path segment {index} {part!r}: {key} given twice")
-            try:
-                kwargs[name] = int(value) if name == "steps" else float(value)
-            except ValueError:
-                raise LoadPathError(
-                    f"path segment {index} {part!r}: {key} = {value.strip()!r} is not "
-                    + ("an integer" if name == "steps" else "a number")
-                ) from None
-        if "steps" not in kwargs:
-            raise LoadPathError(f"path segment {index} {part!r}: give steps=N")
-        try:
-            segments.append(Segment(**kwargs))
-        except LoadPathError as exc:
-            raise LoadPathError(f"path segment {index} {part!r}: {exc}") from None
-    return tuple(segments)
+    path_record = [
+        {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
+         "steps": s.steps}
+        for s in segments
+    ]  # fmt: skip
+    return build_result(
+        lower, upper, (fit_l, fit_u), curves, contacts, steps=total,
+        final_displacement_factor=0.2, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
+        x0=x0, extra={"path": path_record,
+                      "path_segment_end": np.cumsum([s.steps for s in segments]).tolist()},
+    )  # fmt: skip
