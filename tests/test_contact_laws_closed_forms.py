@@ -17,8 +17,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize
 
-from splinecontact import adhesion as ad
-from splinecontact import plasticity as pl
+from splinecontact.contact import adhesion as ad
+from splinecontact.contact import make_law
+from splinecontact.contact import plasticity as pl
 from splinecontact.errors import (
     CohesiveStressError,
     ContactLawError,
@@ -29,7 +30,6 @@ from splinecontact.errors import (
     WorkOfAdhesionError,
     YieldStrengthError,
 )
-from splinecontact.law_registry import make_law
 
 E_STAR = 10.0  # GPa
 R_EFF = 2.0  # µm: a circle of radius 1 µm on the rigid flat

@@ -219,8 +219,8 @@ class LawSpec(BaseModel):
 
     @model_validator(mode="after")
     def _valid_law(self) -> LawSpec:
+        from ..contact import make_law
         from ..errors import ContactLawError
-        from ..law_registry import make_law
 
         try:
             make_law(self.name, **self.parameters())

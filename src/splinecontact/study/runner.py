@@ -136,7 +136,7 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         sim["path"] = [Segment(**segment) for segment in segments]
     law = parameters.get("law")
     if law is not None:
-        from ..law_registry import make_law
+        from ..contact import make_law
 
         sim["law"] = make_law(**law)
     # per-realization diagnostics would repeat once per realization (and from workers)

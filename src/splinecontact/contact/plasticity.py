@@ -1,7 +1,7 @@
 """Elastic–plastic line contacts with elastic unloading and a remembered residual interference.
 
-Conventions as in :mod:`splinecontact.adhesion` (R = R_eff/2, the law's width is √2·b with b the
-contact half-width, δ the package's Hertz approach, ``docs/contact-laws.md``).
+Conventions as in :mod:`splinecontact.contact.adhesion` (R = R_eff/2, the law's width is √2·b
+with b the contact half-width, δ the package's Hertz approach, ``docs/contact-laws.md``).
 
 * **Yield onset** (Green 2005, plane strain): the Hertz line contact first yields (von Mises)
   when its peak pressure reaches p0c = C(ν) S_y with C(ν) = 1.164 + 2.975ν − 2.906ν². With
@@ -36,8 +36,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import MAGNITUDE_LIMIT
-from .errors import PoissonRatioError, YieldStrengthError
+from .._checks import MAGNITUDE_LIMIT
+from ..errors import PoissonRatioError, YieldStrengthError
 
 __all__ = [
     "FULLY_PLASTIC_RATIO",

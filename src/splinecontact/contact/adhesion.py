@@ -35,8 +35,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import MAGNITUDE_LIMIT
-from .errors import CohesiveStressError, WorkOfAdhesionError
+from .._checks import MAGNITUDE_LIMIT
+from ..errors import CohesiveStressError, WorkOfAdhesionError
 
 __all__ = [
     "DMT",
