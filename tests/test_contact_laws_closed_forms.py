@@ -19,6 +19,7 @@ from scipy import integrate, optimize
 
 from splinecontact.contact import adhesion as ad
 from splinecontact.contact import make_law
+from splinecontact.contact import maugis_dugdale as md
 from splinecontact.contact import plasticity as pl
 from splinecontact.errors import (
     CohesiveStressError,
@@ -55,7 +56,7 @@ def md_path(deltas: np.ndarray, w: float, sigma0: float) -> np.ndarray:
     state = np.zeros(ad.N_STATE)
     forces = []
     for d in deltas:
-        out = ad.md_evaluate(float(d), R_EFF, E_STAR, w, sigma0, state)
+        out = md.md_evaluate(float(d), R_EFF, E_STAR, w, sigma0, state)
         state[:] = out[2:]
         forces.append(out[0])
     return np.array(forces)
@@ -75,7 +76,7 @@ def test_zero_adhesion_is_hertz_exactly(delta: float) -> None:
     expected = hertz(delta)
     assert ad.jkr_evaluate(delta, R_EFF, E_STAR, 0.0, 0.0)[:2] == expected
     assert ad.dmt_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0) == expected
-    assert ad.md_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0, np.zeros(ad.N_STATE))[:2] == expected
+    assert md.md_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0, np.zeros(ad.N_STATE))[:2] == expected
 
 
 @pytest.mark.parametrize("delta", DELTAS[1:])
@@ -88,7 +89,7 @@ def test_vanishing_adhesion_tends_to_hertz(delta: float) -> None:
     f, width = ad.dmt_evaluate(delta, R_EFF, E_STAR, w, 1.0)
     assert f == pytest.approx(f_h, rel=1e-9)
     assert width == pytest.approx(a_h, rel=1e-9)
-    out = ad.md_evaluate(delta, R_EFF, E_STAR, w, 1.0, np.zeros(ad.N_STATE))
+    out = md.md_evaluate(delta, R_EFF, E_STAR, w, 1.0, np.zeros(ad.N_STATE))
     assert out[0] == pytest.approx(f_h, rel=1e-9)
     assert out[1] == pytest.approx(a_h, rel=1e-9)
 
@@ -254,15 +255,15 @@ def test_md_closed_forms_against_quadrature(b: float, c: float) -> None:
     hertz_gap = (c * k - b * b * math.acosh(c / b)) / (2 * r)
     t = k / b
     h0 = hertz_gap + opening
-    assert ad.md_gap_residual(b, t, 2 * r, 1.0, h0, 1.0) == pytest.approx(0.0, abs=1e-10)
+    assert md.md_gap_residual(b, t, 2 * r, 1.0, h0, 1.0) == pytest.approx(0.0, abs=1e-10)
     # Approach with the reference at distance βc (ln 2β = 3/2).
     u0 = (
         2
         / math.pi
         * quad(lambda s: _adhesive_pressure(s, b, c) * (1.5 + math.log(c / 2) - math.log(abs(s))))
     )
-    assert ad.md_approach(b, c, 2 * r, 1.0, 1.0) == pytest.approx(b * b / r + u0, rel=1e-9)
-    assert ad.md_force(b, c, 2 * r, 1.0, 1.0) == pytest.approx(
+    assert md.md_approach(b, c, 2 * r, 1.0, 1.0) == pytest.approx(b * b / r + u0, rel=1e-9)
+    assert md.md_force(b, c, 2 * r, 1.0, 1.0) == pytest.approx(
         math.pi * b * b / (4 * r) + quad(lambda s: _adhesive_pressure(s, b, c)), rel=1e-9
     )
 
@@ -272,10 +273,10 @@ def test_md_tends_to_jkr_at_large_tabor_parameter() -> None:
     errors = []
     for tabor in (100.0, 1000.0):
         sigma0 = sigma_for(tabor)
-        assert ad.tabor_parameter(R_EFF, E_STAR, W, sigma0) == pytest.approx(tabor)
+        assert md.tabor_parameter(R_EFF, E_STAR, W, sigma0) == pytest.approx(tabor)
         worst = 0.0
         for b in b_c * np.array([0.7, 1.0, 2.0, 5.0]):
-            delta, force, outer = ad.md_branch(b, R_EFF, E_STAR, W, sigma0)
+            delta, force, outer = md.md_branch(b, R_EFF, E_STAR, W, sigma0)
             assert outer > b
             worst = max(
                 worst,
@@ -288,7 +289,7 @@ def test_md_tends_to_jkr_at_large_tabor_parameter() -> None:
     assert errors[1] < 1e-4
     assert errors[1] < errors[0] / 50  # converges (as λ⁻²)
     # The fold (jump-out) tends to JKR's.
-    b_f, _ = ad.md_fold(R_EFF, E_STAR, W, sigma_for(1000.0))
+    b_f, _ = md.md_fold(R_EFF, E_STAR, W, sigma_for(1000.0))
     assert b_f == pytest.approx(ad.jkr_jump_out_half_width(R_EFF, E_STAR, W), rel=1e-4)
 
 
@@ -298,13 +299,13 @@ def test_md_tends_to_dmt_at_small_tabor_parameter() -> None:
         sigma0 = sigma_for(tabor)
         scale = math.sqrt(R_EFF * W / sigma0)
         forces = [
-            ad.md_branch(b, R_EFF, E_STAR, W, sigma0)[1]
+            md.md_branch(b, R_EFF, E_STAR, W, sigma0)[1]
             for b in np.geomspace(1e-8, 1.0, 400) * scale
         ]
         gaps.append(abs(min(forces) / ad.dmt_pull_off_force(R_EFF, W, sigma0) - 1.0))
         # Without contact the zone is the DMT (rigid) one as λ → 0.
         h0 = W / sigma0
-        f_md, _, exists = ad.md_noncontact(-0.5 * h0, R_EFF, E_STAR, W, sigma0)
+        f_md, _, exists = md.md_noncontact(-0.5 * h0, R_EFF, E_STAR, W, sigma0)
         assert exists
         f_dmt = ad.dmt_evaluate(-0.5 * h0, R_EFF, E_STAR, W, sigma0)[0]
         assert f_md == pytest.approx(f_dmt, rel=3 * tabor)
@@ -327,7 +328,7 @@ def test_md_path_is_continuous_on_branches_and_dissipates(tabor: float) -> None:
     assert np.sum(increments) >= -1e-12 * np.sum(np.abs(increments))  # ≥ 0 up to rounding
     # Loading retraced exactly where both directions are on the same (contact) branch.
     state = np.zeros(ad.N_STATE)
-    out = ad.md_evaluate(top, R_EFF, E_STAR, W, sigma0, state)
+    out = md.md_evaluate(top, R_EFF, E_STAR, W, sigma0, state)
     assert forces[299] == pytest.approx(out[0], rel=1e-12)
 
 

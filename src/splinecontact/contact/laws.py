@@ -33,7 +33,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ContactLawError, ParameterError, UnknownContactLawError
-from .adhesion import DMT, JKR, MaugisDugdale, dmt_evaluate, jkr_evaluate, md_evaluate
+from .adhesion import DMT, JKR, dmt_evaluate, jkr_evaluate
+from .maugis_dugdale import MaugisDugdale, md_evaluate
 from .plasticity import ElasticPlastic, plastic_evaluate
 
 __all__ = [
