@@ -43,7 +43,7 @@ def test_study_with_a_law_runs_the_law(tmp_path: Path) -> None:
     law = make_law(**LAW)
     direct = simulate(lower, upper, mu0=0.0, path=[Segment(**s) for s in PATH], law=law)
     np.testing.assert_array_equal(ds["normal_force"].values.reshape(-1), direct.normal_force)
-    assert direct.to_xarray().attrs["law"] == "jkr"
+    assert direct.to_xarray().attrs["law"] == ds.attrs["law"] == "jkr"
     assert direct.to_xarray().attrs["law_work_of_adhesion"] == 0.3
 
 
