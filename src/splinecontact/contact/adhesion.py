@@ -61,7 +61,8 @@ _PI = math.pi
 #: ln(2β) with β = e^{3/2}/2: the reference distance that makes Hertz F = (π/4)E*δ.
 _LOG_2BETA = 1.5
 #: State columns of the history-dependent laws: branch (0 free, 1 adhesive zone without contact,
-#: 2 contact), last half-width b [µm], R_eff of the cached fold [µm], fold b_f [µm], fold δ_f [µm].
+#: 2 contact); Maugis–Dugdale also: t = √(c² − b²)/b of the last step [1], and the memo of its fold
+#: (R_eff [µm], t_f [1], δ_f [µm]).
 N_STATE = 5
 
 

@@ -167,110 +167,134 @@ def md_noncontact(
 
 
 @numba.njit(cache=True, nogil=True)
-def _md_scale(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+def _md_of_t(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float]:
+    # The contact branch parametrized by t = √(c² − b²)/b: (MD-h) is a quadratic in b, so
+    # b(t), δ(t) and P(t) are closed forms (no nested solve). b decreases as t grows.
     r = 0.5 * r_eff
-    b_jkr = (2.0 * w * r * r / (_PI * e_star)) ** (1.0 / 3.0)
-    return max(b_jkr, math.sqrt(2.0 * r * w / sigma0))
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    h0 = w / sigma0
+    m = math.sqrt(1.0 + t * t)
+    log_m = 0.5 * math.log1p(t * t)
+    asinh_t = math.asinh(t)
+    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_b = a_k * (t * asinh_t - m * log_m)
+    b = 2.0 * h0 / (big_b + math.sqrt(big_b * big_b + 4.0 * big_a * h0))
+    delta = b * b / r + a_k * b * (m * asinh_t - t * (2.5 + log_m))
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    return b, delta, force
+
+
+_LOG_T_MIN = math.log(1e-9)
+_LOG_T_MAX = math.log(1e9)
 
 
 @numba.njit(cache=True, nogil=True)
-def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
-    """Fold of the contact branch, (b_f [µm], δ_f [µm]): the minimum of δ(b). A monotone branch
-    (DMT-like) gives b_f at the lower end of the search (≈ 0) and δ_f = δ(0⁺), where it meets
-    the branch without contact."""
-    scale = _md_scale(r_eff, e_star, w, sigma0)
-    n = 32
-    lo = math.log(1e-7 * scale)
-    hi = math.log(10.0 * scale)
+def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
+    # (t_f, δ_f): the minimum of δ(t). A monotone (DMT-like) branch has it at the largest t
+    # searched (b → 0), where it meets the branch without contact.
+    n = 72
+    lo = _LOG_T_MIN
+    hi = _LOG_T_MAX
     best = 0
     best_d = 1e300
     for i in range(n):
-        b = math.exp(lo + (hi - lo) * i / (n - 1))
-        d = md_branch(b, r_eff, e_star, w, sigma0)[0]
+        d = _md_of_t(math.exp(lo + (hi - lo) * i / (n - 1)), r_eff, e_star, w, sigma0)[1]
         if d < best_d:
             best_d = d
             best = i
-    if best == 0:
-        return math.exp(lo), best_d
-    a = lo + (hi - lo) * (best - 1) / (n - 1)
-    c = lo + (hi - lo) * min(best + 1, n - 1) / (n - 1)
+    if best == n - 1:
+        return math.exp(hi), best_d
+    a = lo + (hi - lo) * max(best - 1, 0) / (n - 1)
+    c = lo + (hi - lo) * (best + 1) / (n - 1)
     g = 0.5 * (math.sqrt(5.0) - 1.0)
     x1 = c - g * (c - a)
     x2 = a + g * (c - a)
-    f1 = md_branch(math.exp(x1), r_eff, e_star, w, sigma0)[0]
-    f2 = md_branch(math.exp(x2), r_eff, e_star, w, sigma0)[0]
-    for _ in range(80):
+    f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+    f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+    for _ in range(100):
         if f1 < f2:
             c = x2
             x2 = x1
             f2 = f1
             x1 = c - g * (c - a)
-            f1 = md_branch(math.exp(x1), r_eff, e_star, w, sigma0)[0]
+            f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
         else:
             a = x1
             x1 = x2
             f1 = f2
             x2 = a + g * (c - a)
-            f2 = md_branch(math.exp(x2), r_eff, e_star, w, sigma0)[0]
+            f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
         if c - a < 1e-12:
             break
-    b_f = math.exp(0.5 * (a + c))
-    return b_f, md_branch(b_f, r_eff, e_star, w, sigma0)[0]
+    t_f = math.exp(0.5 * (a + c))
+    return t_f, _md_of_t(t_f, r_eff, e_star, w, sigma0)[1]
+
+
+@numba.njit(cache=True, nogil=True)
+def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
+    """Fold of the contact branch, (b_f [µm], δ_f [µm]): the minimum of δ(b). A monotone branch
+    (DMT-like) gives b_f ≈ 0 and δ_f = δ(0⁺), where it meets the branch without contact."""
+    t_f, d_f = _md_fold_t(r_eff, e_star, w, sigma0)
+    return _md_of_t(t_f, r_eff, e_star, w, sigma0)[0], d_f
 
 
 @numba.njit(cache=True, nogil=True)
 def _md_contact_root(
-    delta: float, b_lo: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
+    delta: float, t_f: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
 ) -> float:
-    # δ(b) is increasing on (b_f, ∞): Illinois (regula falsi) on a bracket [lo, hi], first tried
-    # tight around the previous step's half-width.
-    lo = b_lo
-    f_lo = -1.0
-    f_hi = -1.0
-    hi = lo
-    if guess > b_lo:
-        lo = max(b_lo, 0.98 * guess)
-        f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
-        hi = 1.02 * guess
-        f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
-    if not (f_lo <= 0.0 <= f_hi):
-        lo = b_lo
-        f_lo = md_branch(lo, r_eff, e_star, w, sigma0)[0] - delta
-        hi = max(guess, 2.0 * lo, math.sqrt(0.5 * r_eff * abs(delta)))
-        f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
-        for _ in range(2000):
-            if f_hi >= 0.0:
-                break
+    # δ(t) decreases on (0, t_f]: Illinois (regula falsi) in x = ln t on a bracket with
+    # δ(lo) ≥ δ ≥ δ(hi), first tried tight around the previous step's t.
+    x_f = math.log(t_f)
+    f_f = _md_of_t(t_f, r_eff, e_star, w, sigma0)[1] - delta
+    if f_f >= 0.0:
+        return t_f
+    # Bracket grown geometrically around the previous step's t (or down from the fold).
+    centre = math.log(guess) if 0.0 < guess < t_f else x_f
+    width = 0.02
+    lo = centre - width
+    f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
+    hi = min(centre + width, x_f)
+    f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
+    for _ in range(200):
+        if f_lo >= 0.0 and f_hi <= 0.0:
+            break
+        width *= 4.0
+        if f_lo < 0.0:  # the root is left of lo
+            hi = lo
+            f_hi = f_lo
+            lo = centre - width
+            f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
+        else:  # f_hi > 0: the root is right of hi (and left of the fold)
             lo = hi
             f_lo = f_hi
-            hi *= 2.0
-            f_hi = md_branch(hi, r_eff, e_star, w, sigma0)[0] - delta
-    if f_lo >= 0.0:
-        return lo
+            hi = min(centre + width, x_f)
+            f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
     side = 0
-    b = hi
+    x = lo
     for _ in range(300):
-        b = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        if not lo < b < hi:
-            b = 0.5 * (lo + hi)
-        f = md_branch(b, r_eff, e_star, w, sigma0)[0] - delta
-        if f == 0.0:
-            return b
+        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        f = _md_of_t(math.exp(x), r_eff, e_star, w, sigma0)[1] - delta
+        if abs(f) <= 1e-14 * abs(delta):
+            return math.exp(x)
         if f > 0.0:
-            hi = b
-            f_hi = f
+            lo = x
+            f_lo = f
             if side == 1:
-                f_lo *= 0.5
+                f_hi *= 0.5
             side = 1
         else:
-            lo = b
-            f_lo = f
+            hi = x
+            f_hi = f
             if side == -1:
-                f_hi *= 0.5
+                f_lo *= 0.5
             side = -1
-        if hi - lo <= 1e-14 * hi:
+        if hi - lo <= 1e-13:
             break
-    return b
+    return math.exp(x)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -291,13 +315,14 @@ def md_evaluate(
     r_eff, e_star, w, sigma0 : float
         R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
     state : ndarray
-        The contact's :data:`N_STATE` values (branch, b, cached R_eff, b_f, δ_f). Only the
-        fold memo (the last three, a function of R_eff alone) is written here; the caller stores
-        the returned branch and b when the step is committed.
+        The contact's :data:`N_STATE` values (branch, t = √(c² − b²)/b of the last step, cached
+        R_eff, t and δ of the fold). Only the fold memo (the last three, a function of R_eff
+        alone) is written here; the caller stores the returned branch and t when the step is
+        committed.
 
     Returns
     -------
-    (force, width, branch, b, r_cached, b_fold, delta_fold)
+    (force, width, branch, t, r_cached, t_fold, delta_fold)
         Force [mN/µm], width √2·b [µm], and the new state values.
     """
     if w == 0.0:
@@ -305,32 +330,32 @@ def md_evaluate(
             return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0, 0.0, 0.0, 0.0, 0.0
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     branch = state[0]
+    h0 = w / sigma0
+    if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4]
     if state[2] == r_eff and r_eff > 0.0:
-        b_f = state[3]
+        t_f = state[3]
         d_f = state[4]
     else:
-        b_f, d_f = md_fold(r_eff, e_star, w, sigma0)
+        t_f, d_f = _md_fold_t(r_eff, e_star, w, sigma0)
         # Memo of a pure function of R_eff (not history): a trial evaluation may keep it.
         state[2] = r_eff
-        state[3] = b_f
+        state[3] = t_f
         state[4] = d_f
     a_k = 4.0 * sigma0 / (_PI * e_star)
-    h0 = w / sigma0
-    if branch == 0.0 and delta < -h0:
-        return 0.0, 0.0, 0.0, 0.0, r_eff, b_f, d_f
     in_contact = branch == 2.0 and delta >= d_f
     if not in_contact:
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
-            return force, 0.0, 1.0, 0.0, r_eff, b_f, d_f  # adhesive zone, gap at x = 0 open
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f  # adhesive zone, gap at x = 0 open
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, b_f, d_f
-    guess = state[1] if branch == 2.0 and state[1] > b_f else b_f
-    b = _md_contact_root(delta, b_f, r_eff, e_star, w, sigma0, guess)
-    _, force, _ = md_branch(b, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, b, r_eff, b_f, d_f
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f
+    guess = state[1] if branch == 2.0 else 0.0
+    t = _md_contact_root(delta, t_f, r_eff, e_star, w, sigma0, guess)
+    b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
