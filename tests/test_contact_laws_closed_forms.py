@@ -53,11 +53,11 @@ def jkr_path(deltas: np.ndarray, w: float = W) -> tuple[np.ndarray, np.ndarray]:
 
 
 def md_path(deltas: np.ndarray, w: float, sigma0: float) -> np.ndarray:
-    state = np.zeros(ad.N_STATE)
+    state = np.zeros(md.N_STATE)
     forces = []
     for d in deltas:
         out = md.md_evaluate(float(d), R_EFF, E_STAR, w, sigma0, state)
-        state[:] = out[2:]
+        state[:5] = out[2:]
         forces.append(out[0])
     return np.array(forces)
 
@@ -76,7 +76,7 @@ def test_zero_adhesion_is_hertz_exactly(delta: float) -> None:
     expected = hertz(delta)
     assert ad.jkr_evaluate(delta, R_EFF, E_STAR, 0.0, 0.0)[:2] == expected
     assert ad.dmt_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0) == expected
-    assert md.md_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0, np.zeros(ad.N_STATE))[:2] == expected
+    assert md.md_evaluate(delta, R_EFF, E_STAR, 0.0, 1.0, np.zeros(md.N_STATE))[:2] == expected
 
 
 @pytest.mark.parametrize("delta", DELTAS[1:])
@@ -89,7 +89,7 @@ def test_vanishing_adhesion_tends_to_hertz(delta: float) -> None:
     f, width = ad.dmt_evaluate(delta, R_EFF, E_STAR, w, 1.0)
     assert f == pytest.approx(f_h, rel=1e-9)
     assert width == pytest.approx(a_h, rel=1e-9)
-    out = md.md_evaluate(delta, R_EFF, E_STAR, w, 1.0, np.zeros(ad.N_STATE))
+    out = md.md_evaluate(delta, R_EFF, E_STAR, w, 1.0, np.zeros(md.N_STATE))
     assert out[0] == pytest.approx(f_h, rel=1e-9)
     assert out[1] == pytest.approx(a_h, rel=1e-9)
 
@@ -327,7 +327,7 @@ def test_md_path_is_continuous_on_branches_and_dissipates(tabor: float) -> None:
     increments = 0.5 * (forces[1:] + forces[:-1]) * np.diff(path)
     assert np.sum(increments) >= -1e-12 * np.sum(np.abs(increments))  # ≥ 0 up to rounding
     # Loading retraced exactly where both directions are on the same (contact) branch.
-    state = np.zeros(ad.N_STATE)
+    state = np.zeros(md.N_STATE)
     out = md.md_evaluate(top, R_EFF, E_STAR, W, sigma0, state)
     assert forces[299] == pytest.approx(out[0], rel=1e-12)
 

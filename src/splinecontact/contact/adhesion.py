@@ -60,10 +60,8 @@ MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE = 1e-3
 _PI = math.pi
 #: ln(2β) with β = e^{3/2}/2: the reference distance that makes Hertz F = (π/4)E*δ.
 _LOG_2BETA = 1.5
-#: State columns of the history-dependent laws: branch (0 free, 1 adhesive zone without contact,
-#: 2 contact); Maugis–Dugdale also: t = √(c² − b²)/b of the last step [1], and the memo of its fold
-#: (R_eff [µm], t_f [1], δ_f [µm]).
-N_STATE = 5
+#: State columns of JKR: the branch (0 apart, 2 in contact).
+N_STATE = 1
 
 
 def _check_w(value: object) -> float:

@@ -333,7 +333,9 @@ def law_step(
 def release_law(code: int, state: NDArray[np.float64], point: int) -> None:  # pragma: no cover
     """A contact that is no longer accepted lets go: the adhesive laws' branch returns to
     "apart" (the plastic history is kept)."""
-    if code == _JKR or code == _MD:
+    if code == _JKR:
+        state[point, 0] = 0.0
+    elif code == _MD:
         state[point, 0] = 0.0
         state[point, 1] = 0.0
 
@@ -369,6 +371,11 @@ def commit_law(
     """Update the history ``state[point]`` of an accepted contact when its step is committed."""
     if code == HERTZ or code == _DMT:
         return  # no history
+    if code == _MD and state[point, 5] == delta and state[point, 6] == r_eff:
+        # the trial evaluation of this step (same δ and R_eff, same committed state) is kept
+        state[point, 0] = state[point, 7]
+        state[point, 1] = state[point, 8]
+        return
     _store(state, point, _history_law(code, params, delta, r_eff, state, point))
 
 

@@ -16,7 +16,6 @@ from numpy.typing import NDArray
 
 from .adhesion import (
     MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE,
-    N_STATE,
     _check_sigma,
     _check_w,
 )
@@ -34,6 +33,11 @@ __all__ = [
 ]
 
 _PI = math.pi
+
+#: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
+#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
+#: R_eff [µm], branch, t) that lets the commit of a step reuse its trial evaluation.
+N_STATE = 9
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -299,6 +303,42 @@ def _md_contact_root(
 
 @numba.njit(cache=True, nogil=True)
 def md_evaluate(
+    delta: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[float, float, float, float, float, float, float]:
+    """One Maugis–Dugdale contact under displacement control.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap of the undeformed surface spheres δ [µm] (eq. 10; < 0 at a gap).
+    r_eff, e_star, w, sigma0 : float
+        R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
+    state : ndarray
+        The contact's :data:`N_STATE` values. Only memos are written here (the fold, a function
+        of R_eff alone, and this evaluation's inputs and result); the caller stores the returned
+        branch and t when the step is committed.
+
+    Returns
+    -------
+    (force, width, branch, t, r_cached, t_fold, delta_fold)
+        Force [mN/µm], width √2·b [µm], and the new state values of the first five columns.
+    """
+    out = _md_evaluate(delta, r_eff, e_star, w, sigma0, state)
+    if state.size >= N_STATE:
+        state[5] = delta
+        state[6] = r_eff
+        state[7] = out[2]
+        state[8] = out[3]
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_evaluate(
     delta: float,
     r_eff: float,
     e_star: float,
