@@ -88,3 +88,42 @@ def test_bad_law_on_the_command_line_is_one_line(tmp_path: Path, args: list[str]
         assert len(lines) == 1 and "Error" in lines[0], proc.stderr
         assert "Traceback" not in proc.stderr
         assert not out.exists()
+
+
+def test_cli_selects_the_law_and_records_it(tmp_path: Path) -> None:
+    import xarray as xr
+    from typer.testing import CliRunner
+
+    from splinecontact.cli import app
+
+    lower = "generated:D=1.5,seed=2,n_points=2000,length=0.4"
+    out = tmp_path / "f.nc"
+    path = "normal=0.001,steps=10; normal=-0.001,steps=10"
+    run = CliRunner().invoke(
+        app,
+        ["friction", "--lower", lower, "--path", path, "--law", "maugis-dugdale",
+         "--work-of-adhesion", "0.2", "--cohesive-stress", "1.0", "-o", str(out)],
+    )  # fmt: skip
+    assert run.exit_code == 0, run.output
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["law"] == "maugis-dugdale"
+        assert ds.attrs["law_work_of_adhesion"] == 0.2
+        assert ds.attrs["law_cohesive_stress"] == 1.0
+        assert float(ds["normal_force"].min()) < 0.0  # attraction on unloading
+    out2 = tmp_path / "s.nc"
+    run = CliRunner().invoke(
+        app,
+        ["simulate", "--lower", lower, "--steps", "10", "--law", "elastic-plastic",
+         "--hardness", "2", "-o", str(out2)],
+    )  # fmt: skip
+    assert run.exit_code == 0, run.output
+    with xr.open_dataset(out2) as ds:
+        assert ds.attrs["law"] == "elastic-plastic"
+        assert ds.attrs["law_hardness"] == 2.0
+    bad = CliRunner().invoke(
+        app, ["simulate", "--lower", lower, "--law", "jkr", "--hardness", "2", "-o",
+              str(tmp_path / "x.nc")],
+    )  # fmt: skip
+    assert bad.exit_code == 1
+    assert "no parameter hardness" in bad.output
+    assert not (tmp_path / "x.nc").exists()
