@@ -511,3 +511,27 @@ def test_residual_displacement_of_a_plastic_unloading() -> None:
     assert res.pull_off_force == 0.0 and res.work_of_separation == 0.0
     expected = pl.residual_interference(10 * d_c, forces[50], E_STAR)
     assert res.residual_displacement == pytest.approx(expected, rel=1e-9)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    tabor=st.floats(0.05, 50.0),
+    r_eff=st.floats(0.01, 100.0),
+    factor=st.floats(1.05, 20.0),
+)
+def test_md_contact_state_round_trip(tabor: float, r_eff: float, factor: float) -> None:
+    """The kernels' branch (parametrized by t, closed forms) returns the half-width whose
+    δ and P the b-parametrized branch (MD-h solved for c) gives, on the stable side."""
+    sigma0 = tabor / 2.0 * (math.pi * W * E_STAR**2 / (0.5 * r_eff)) ** (1.0 / 3.0)
+    b_f, d_f = md.md_fold(r_eff, E_STAR, W, sigma0)
+    b = max(b_f, 1e-6 * r_eff) * factor
+    delta, force, _ = md.md_branch(b, r_eff, E_STAR, W, sigma0)
+    assert delta > d_f
+    state = np.zeros(md.N_STATE)
+    state[0] = 2.0  # in contact
+    out = md.md_evaluate(delta, r_eff, E_STAR, W, sigma0, state)
+    assert out[2] == 2.0
+    assert out[1] / math.sqrt(2.0) == pytest.approx(b, rel=1e-7)
+    assert out[0] == pytest.approx(
+        force, rel=1e-6, abs=1e-9 * abs(ad.jkr_pull_off_force(r_eff, E_STAR, W))
+    )
