@@ -144,7 +144,13 @@ def simulate(
         points), e.g. for the realizations of an ensemble.
     law : ContactLaw, optional
         Local normal contact law (:mod:`splinecontact.contact.laws`); default
-        :class:`~splinecontact.contact.laws.Hertz`, F = (π/4)E*δ (eq. 10).
+        :class:`~splinecontact.contact.laws.Hertz`, F = (π/4)E*δ (eq. 10). Also
+        :class:`~splinecontact.contact.JKR`, :class:`~splinecontact.contact.DMT`,
+        :class:`~splinecontact.contact.MaugisDugdale` (adhesion; work of adhesion [J/m²],
+        Dugdale stress [GPa]) and :class:`~splinecontact.contact.ElasticPlastic` (yield strength
+        or hardness [GPa]), or :func:`~splinecontact.contact.make_law` by name
+        (``docs/contact-laws.md``; the Sec. 4 proposal). Their history (jump-in/out, the plastic
+        residual interference) shows on a ``path`` that unloads.
 
     Returns
     -------
