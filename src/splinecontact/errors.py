@@ -18,6 +18,8 @@ __all__ = [
     "BEMGridError",
     "BEMInputError",
     "BEMParameterError",
+    "CohesiveStressError",
+    "ContactLawError",
     "CorruptFileError",
     "CropError",
     "DamagedX3PError",
@@ -46,6 +48,7 @@ __all__ = [
     "OutputExistsError",
     "OutputWriteError",
     "ParameterError",
+    "PoissonRatioError",
     "PreprocessingOptionError",
     "ProfileError",
     "ProfileRangeError",
@@ -60,9 +63,12 @@ __all__ = [
     "TooFewPointsError",
     "UndefinedPointsError",
     "UnitError",
+    "UnknownContactLawError",
     "UnknownFormatError",
     "UnsafeOutputError",
+    "WorkOfAdhesionError",
     "X3PError",
+    "YieldStrengthError",
 ]
 
 
@@ -343,3 +349,31 @@ class StudyExecutionError(SplineContactError):
     def __init__(self, message: str, summary: Any = None) -> None:
         super().__init__(message)
         self.summary: Any = summary
+
+
+# --- contact laws -----------------------------------------------------------------------------
+
+
+class ContactLawError(ParameterError):
+    """A local contact law (adhesive or elastic–plastic) was given an invalid parameter."""
+
+
+class UnknownContactLawError(ContactLawError):
+    """The name of a contact law is not one the package knows."""
+
+
+class WorkOfAdhesionError(ContactLawError):
+    """The work of adhesion w [J/m²] is negative, not finite or not a number."""
+
+
+class CohesiveStressError(ContactLawError):
+    """The cohesive (Dugdale) stress σ0 [GPa] is not a finite number > 0."""
+
+
+class YieldStrengthError(ContactLawError):
+    """The yield strength or the hardness [GPa] is not a finite number > 0 (or both or neither
+    were given)."""
+
+
+class PoissonRatioError(ContactLawError):
+    """Poisson's ratio ν is outside [0, 0.5)."""

@@ -46,6 +46,8 @@ Modules
 * :mod:`~splinecontact.analysis.friction` — μ_s, k_T, k_N, Mindlin's ratio, dissipation and
   dilatancy of a load-path result; :mod:`~splinecontact.analysis.friction_study` runs them over
   an ensemble against D.
+* :mod:`~splinecontact.analysis.laws` — pull-off force, work of separation, residual approach
+  and the energy of a load–unload cycle under an adhesive or elastic–plastic contact law.
 
 The statistical tests of the report of ``splinecontact reproduce`` (trend tests, bootstrap) are
 in :mod:`splinecontact.reproduce.statistics`.

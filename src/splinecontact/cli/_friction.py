@@ -10,6 +10,15 @@ import typer
 
 from ._bodies import load_bodies, parse_body_spec
 from ._errors import handle_errors
+from ._law import (
+    CohesiveStressOpt,
+    HardnessOpt,
+    LawOpt,
+    PoissonRatioOpt,
+    WorkOfAdhesionOpt,
+    YieldStrengthOpt,
+    law_from_options,
+)
 from ._reading import EStarOpt, GStarOpt, Mu0Opt, OverwriteOpt, ProfileReading, with_reading_options
 
 __all__ = ["register"]
@@ -51,6 +60,12 @@ def register(app: typer.Typer) -> None:
         alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1].")] = 2.0,
         x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm].")] = 1.0,
         overwrite: OverwriteOpt = False,
+        law: LawOpt = "hertz",
+        work_of_adhesion: WorkOfAdhesionOpt = None,
+        cohesive_stress: CohesiveStressOpt = None,
+        yield_strength: YieldStrengthOpt = None,
+        hardness: HardnessOpt = None,
+        poisson_ratio: PoissonRatioOpt = None,
         *,
         reading_options: Callable[[], ProfileReading],
     ) -> None:
@@ -65,6 +80,10 @@ def register(app: typer.Typer) -> None:
         from ._measured import _check_result_suffix, write_result
 
         _check_result_suffix(output)
+        contact_law = law_from_options(
+            law, work_of_adhesion=work_of_adhesion, cohesive_stress=cohesive_stress,
+            yield_strength=yield_strength, hardness=hardness, poisson_ratio=poisson_ratio,
+        )  # fmt: skip
 
         reading = reading_options()
         specs = [
@@ -79,7 +98,7 @@ def register(app: typer.Typer) -> None:
             typer.echo(f"note: {note}", err=True)
         result = simulate(
             bodies.lower, bodies.upper, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
-            x0=x0, path=segments,
+            x0=x0, path=segments, law=contact_law,
         )  # fmt: skip
         write_result(result, out, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec})
         c = result.curves

@@ -23,6 +23,15 @@ from ._bodies import (
     read_body,
 )
 from ._errors import handle_errors, warn
+from ._law import (
+    CohesiveStressOpt,
+    HardnessOpt,
+    LawOpt,
+    PoissonRatioOpt,
+    WorkOfAdhesionOpt,
+    YieldStrengthOpt,
+    law_from_options,
+)
 from ._reading import (
     EStarOpt,
     GStarOpt,
@@ -160,6 +169,12 @@ def simulate_command(
     alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1] (eq. 3).")] = 2.0,
     x0: X0Opt = 1.0,
     overwrite: OverwriteOpt = False,
+    law: LawOpt = "hertz",
+    work_of_adhesion: WorkOfAdhesionOpt = None,
+    cohesive_stress: CohesiveStressOpt = None,
+    yield_strength: YieldStrengthOpt = None,
+    hardness: HardnessOpt = None,
+    poisson_ratio: PoissonRatioOpt = None,
     *,
     reading_options: Callable[[], ProfileReading],
 ) -> None:
@@ -175,6 +190,10 @@ def simulate_command(
     from ..outputs import check_output_file
 
     _check_result_suffix(output)
+    contact_law = law_from_options(
+        law, work_of_adhesion=work_of_adhesion, cohesive_stress=cohesive_stress,
+        yield_strength=yield_strength, hardness=hardness, poisson_ratio=poisson_ratio,
+    )  # fmt: skip
     if final_displacement is not None and not (
         math.isfinite(final_displacement) and 0 < final_displacement < 1e100
     ):
@@ -196,6 +215,7 @@ def simulate_command(
         result = simulate(
             bodies.lower, bodies.upper, steps=steps, final_displacement=final_displacement,
             e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, max_steps=max_steps,
+            law=contact_law,
         )  # fmt: skip
     for item in simulation_diagnostics(
         bodies.lower, bodies.upper, result.curves, alpha=alpha, x0=x0

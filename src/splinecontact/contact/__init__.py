@@ -11,26 +11,39 @@
 from __future__ import annotations
 
 from ..errors import ForceControlError, LoadPathError
+from . import adhesion, maugis_dugdale, plasticity
+from .adhesion import DMT, JKR
 from .geometry import ContactGeometry, contact_geometry
 from .kernel import LoadingRun, run_loading
-from .laws import ContactLaw, Hertz
+from .laws import LAWS, ContactLaw, Hertz, make_law
 from .loadpath import run_path, simulate_path
+from .maugis_dugdale import MaugisDugdale
+from .plasticity import ElasticPlastic
 from .segments import Segment, parse_path, validate_path
 from .simulation import MAX_RECORDED_CONTACTS, MAX_STEPS, SIMULATION_PARAMETERS, simulate
 
 __all__ = [
+    "DMT",
+    "JKR",
+    "LAWS",
     "MAX_RECORDED_CONTACTS",
     "MAX_STEPS",
     "SIMULATION_PARAMETERS",
     "ContactGeometry",
     "ContactLaw",
+    "ElasticPlastic",
     "ForceControlError",
     "Hertz",
     "LoadPathError",
     "LoadingRun",
+    "MaugisDugdale",
     "Segment",
+    "adhesion",
     "contact_geometry",
+    "make_law",
+    "maugis_dugdale",
     "parse_path",
+    "plasticity",
     "run_loading",
     "run_path",
     "simulate",

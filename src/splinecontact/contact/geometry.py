@@ -347,6 +347,10 @@ def sphere_contact(
     )
     if not delta > min_delta:
         return False, delta, 0.0, 0.0, 0.0, y_norm
+    if min_delta < 0.0 and g > 0.0 and delta > 0.0:
+        # A law acting at a gap visits points whose surfaces are apart (g > 0): their osculating
+        # spheres may still intersect elsewhere; that is no contact of this point.
+        return False, delta, 0.0, 0.0, 0.0, y_norm
     offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
     if not (-half_dx <= offset < half_dx):  # eq. 9
         return False, delta, offset, 0.0, 0.0, y_norm

@@ -33,9 +33,8 @@ from .laws import (
     Hertz,
     Material,
     check_law,
-    commit_law,
     kernel_material,
-    normal_law,
+    law_step,
     tangential_spring,
 )
 
@@ -143,8 +142,7 @@ def _loading_kernel(
                 was_accepted[j] = False
                 continue
             reff = 2.0 / (k_l + k_u)
-            f_n, width = normal_law(law_code, law_params, delta, reff, law_state, point[j])
-            commit_law(law_code, law_params, delta, reff, law_state, point[j])
+            f_n, width = law_step(law_code, law_params, delta, reff, law_state, point[j])
             if was_accepted[j]:
                 # Δu·t with Δu = (0, −increment), t = (e_z, −e_x): increment·e_x.
                 f_t, _, _ = tangential_spring(tangential[j], g_star * increment * e_x, mu0, f_n)
@@ -153,7 +151,8 @@ def _loading_kernel(
             tangential[j] = f_t
             was_accepted[j] = True
             sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, width)
-            count += 1
+            if f_n != 0.0 or width > 0.0:
+                count += 1  # a law acting at a gap also visits points it leaves without force
             if record[step]:
                 rec_step[n_rec] = step
                 rec_index[n_rec] = j

@@ -23,26 +23,40 @@ gap is ≤ reach and accept contacts with δ > −reach.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
-from typing import ClassVar, NamedTuple, Protocol, runtime_checkable
+from typing import Any, ClassVar, NamedTuple, Protocol, runtime_checkable
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
+from ..errors import ContactLawError, ParameterError, UnknownContactLawError
+from .adhesion import DMT, JKR, dmt_evaluate, jkr_evaluate
+from .maugis_dugdale import MaugisDugdale, md_evaluate
+from .plasticity import ElasticPlastic, plastic_evaluate
 
 __all__ = [
+    "DMT",
     "HERTZ",
+    "JKR",
+    "LAWS",
     "ContactLaw",
+    "ElasticPlastic",
     "Hertz",
     "Material",
+    "MaugisDugdale",
+    "bind_law",
     "check_law",
     "commit_law",
     "kernel_material",
+    "law_record",
+    "law_step",
+    "make_law",
     "new_law_state",
     "normal_law",
+    "release_law",
     "tangential_spring",
 ]
 
@@ -50,6 +64,9 @@ _QUARTER_PI = 0.25 * math.pi
 
 #: Kernel code of the Hertzian line contact.
 HERTZ = 0
+_JKR = 1  # kernel codes of the other laws (their classes' ``code``)
+_DMT = 2
+_MD = 3
 
 
 @runtime_checkable
@@ -85,6 +102,12 @@ class ContactLaw(Protocol):
     def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
         """``[E*, *parameters()]``: E* [GPa] first, as :func:`normal_law` reads it."""
 
+    def settings(self) -> dict[str, float]:
+        """The parameters as the user gives them (recorded with the results)."""
+
+    def bind(self, e_star: float, r_eff_max: float) -> ContactLaw:
+        """The law with its :attr:`reach` resolved for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
+
 
 @dataclass(frozen=True)
 class Hertz:
@@ -113,6 +136,14 @@ class Hertz:
         """``[E*]`` [GPa]."""
         return np.concatenate(([float(e_star)], self.parameters()))
 
+    def settings(self) -> dict[str, float]:
+        """No parameters to record."""
+        return {}
+
+    def bind(self, e_star: float, r_eff_max: float) -> Hertz:
+        """This law (nothing depends on E*)."""
+        return self
+
 
 def check_law(law: object) -> ContactLaw:
     """Validate ``law`` (a :class:`ContactLaw` such as ``Hertz()``) and return it.
@@ -129,6 +160,50 @@ def check_law(law: object) -> ContactLaw:
         )
     law.validate()
     return law
+
+
+#: Law name → class, as study files and the command line name them.
+LAWS: dict[str, Any] = {cls.name: cls for cls in (Hertz, JKR, DMT, MaugisDugdale, ElasticPlastic)}
+
+
+def make_law(name: str, **parameters: Any) -> ContactLaw:
+    """The validated law called ``name`` (``hertz``, ``jkr``, ``dmt``, ``maugis-dugdale``,
+    ``elastic-plastic``) with ``parameters`` (see each law for their units).
+
+    Raises
+    ------
+    UnknownContactLawError
+        ``name`` is not a known law.
+    ContactLawError
+        A parameter the law does not have, or an invalid value (a specific subclass).
+    """
+    cls = LAWS.get(name.strip().lower()) if isinstance(name, str) else None
+    if cls is None:
+        raise UnknownContactLawError(
+            f"contact law {name!r} does not exist; choose one of {', '.join(LAWS)}"
+        )
+    fields = {f.name for f in dataclasses.fields(cls)} - {"reach_bound"}
+    unknown = sorted(set(parameters) - fields)
+    if unknown:
+        have = ", ".join(sorted(fields)) if fields else "none"
+        raise ContactLawError(
+            f"the {cls.name} law has no parameter {', '.join(unknown)}; its parameters: {have}"
+        )
+    law: ContactLaw = cls(**parameters)
+    law.validate()
+    return law
+
+
+def law_record(law: ContactLaw) -> dict[str, Any]:
+    """What results record about the law: ``law`` (its name) and ``law_<parameter>`` for each
+    parameter as the user gave it (units in the law's documentation)."""
+    return {"law": law.name, **{f"law_{k}": v for k, v in law.settings().items()}}
+
+
+def bind_law(law: ContactLaw, e_star: float, r_eff_max: float) -> ContactLaw:
+    """``law`` with its reach [µm] resolved for E* [GPa] and contacts of R_eff ≤ ``r_eff_max``
+    [µm] (adhesive laws hold or attract down to an overlap that depends on both)."""
+    return law.bind(e_star, r_eff_max)
 
 
 def new_law_state(law: ContactLaw, n_points: int) -> NDArray[np.float64]:
@@ -205,8 +280,83 @@ def normal_law(
     point : int
         Lower-body grid index of the contact.
     """
-    # Hertz (code 0) is the only law so far; new laws add branches here.
-    return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+    if code == HERTZ:
+        return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+    if code == _DMT:
+        return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
+    out = _history_law(code, params, delta, r_eff, state, point)
+    return out[0], out[1]
+
+
+@numba.njit(cache=True, nogil=True)
+def _history_law(
+    code: int,
+    params: NDArray[np.float64],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> tuple[float, float, float, float, float, float, float]:  # pragma: no cover - compiled
+    # (force, width, new state values) of the laws that keep a history.
+    e_star = params[0]
+    if code == _JKR:
+        f, width, branch = jkr_evaluate(delta, r_eff, e_star, params[1], state[point, 0])
+        return f, width, branch, 0.0, 0.0, 0.0, 0.0
+    if code == _MD:
+        return md_evaluate(delta, r_eff, e_star, params[1], params[2], state[point])
+    f, width, d_max, f_max, b_max = plastic_evaluate(
+        delta, r_eff, e_star, params[1], params[2], params[3], state[point]
+    )
+    return f, width, d_max, f_max, b_max, 0.0, 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def law_step(
+    code: int,
+    params: NDArray[np.float64],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """:func:`normal_law` and :func:`commit_law` in one evaluation (the monotone loading loop)."""
+    if code == HERTZ:
+        return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+    if code == _DMT:
+        return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
+    out = _history_law(code, params, delta, r_eff, state, point)
+    _store(state, point, out)
+    return out[0], out[1]
+
+
+@numba.njit(cache=True, nogil=True)
+def release_law(code: int, state: NDArray[np.float64], point: int) -> None:  # pragma: no cover
+    """A contact that is no longer accepted lets go: the adhesive laws' branch returns to
+    "apart" (the plastic history is kept)."""
+    if code == _JKR:
+        state[point, 0] = 0.0
+    elif code == _MD:
+        state[point, 0] = 0.0
+        state[point, 1] = 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def _store(
+    state: NDArray[np.float64],
+    point: int,
+    out: tuple[float, float, float, float, float, float, float],
+) -> None:  # pragma: no cover - compiled
+    n = state.shape[1]
+    if n > 0:
+        state[point, 0] = out[2]
+    if n > 1:
+        state[point, 1] = out[3]
+    if n > 2:
+        state[point, 2] = out[4]
+    if n > 3:
+        state[point, 3] = out[5]
+    if n > 4:
+        state[point, 4] = out[6]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -219,8 +369,14 @@ def commit_law(
     point: int,
 ) -> None:  # pragma: no cover - compiled
     """Update the history ``state[point]`` of an accepted contact when its step is committed."""
-    # Hertz keeps no history.
-    return
+    if code == HERTZ or code == _DMT:
+        return  # no history
+    if code == _MD and state[point, 5] == delta and state[point, 6] == r_eff:
+        # the trial evaluation of this step (same δ and R_eff, same committed state) is kept
+        state[point, 0] = state[point, 7]
+        state[point, 1] = state[point, 8]
+        return
+    _store(state, point, _history_law(code, params, delta, r_eff, state, point))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -247,7 +403,7 @@ def tangential_spring(
         and the uncapped trial force [mN/µm] (eq. 11).
     """
     trial = previous - increment
-    cap = mu0 * normal_force
+    cap = mu0 * max(normal_force, 0.0)  # an adhesive (tensile) contact carries no friction
     if trial > cap:
         return cap, True, trial
     if trial < -cap:

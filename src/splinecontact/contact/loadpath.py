@@ -33,7 +33,7 @@ from ..spheres import own_frame_geometry
 from ..spline import SplineFit, fit_spline
 from . import path_kernel as _k
 from .geometry import contact_geometry
-from .laws import ContactLaw, Hertz, check_law, kernel_material
+from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
 
 __all__ = ["FORCE_RTOL", "run_path", "simulate_path"]
@@ -466,6 +466,7 @@ def simulate_path(
     x0: float,
     record_contacts: Iterable[int] | str | None,
     law: ContactLaw | None = None,
+    fits: tuple[SplineFit, SplineFit | None] | None = None,
 ) -> SimulationResult:
     """``simulate(lower, upper, path=...)`` with validated material parameters.
 
@@ -492,7 +493,7 @@ def simulate_path(
     extent = max(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
-    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
     geometry = contact_geometry(
         lower, upper, steps=1, final_displacement=max(extent, lower.dx),
         final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
@@ -513,5 +514,6 @@ def simulate_path(
         lower, upper, (fit_l, fit_u), curves, contacts, steps=total,
         final_displacement_factor=0.2, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
         x0=x0, extra={"path": path_record,
-                      "path_segment_end": np.cumsum([s.steps for s in segments]).tolist()},
+                      "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
+                      **law_record(Hertz() if law is None else law)},
     )  # fmt: skip

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
-from .laws import Material, commit_law, normal_law, tangential_spring
+from .laws import Material, commit_law, normal_law, release_law, tangential_spring
 
 __all__ = [
     "Culling",
@@ -431,6 +431,7 @@ def path_step(
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
     work = 0.0
     n_slip = 0
+    n_touch = 0
     for c in range(n_c):
         f_n = scratch.fn[c]
         e_x = scratch.ex[c]
@@ -448,14 +449,23 @@ def path_step(
         if slipping:
             n_slip += 1
             if g_star > 0.0:
-                cap = mu0 * f_n
+                cap = mu0 * max(f_n, 0.0)
                 work += cap * (abs(trial) - cap) / g_star
         scratch.ft[c] = f_t
         scratch.slip[c] = slipping
         sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
+        if f_n != 0.0 or scratch.width[c] > 0.0:
+            n_touch += 1  # a law acting at a gap also visits points it leaves without force
     if commit:
         for p in range(springs.n_committed[0]):
             springs.acc[springs.cells[p]] = False
+        # A contact of the previous step that is not accepted now has let go (laws with a
+        # branch state: JKR, Maugis–Dugdale); its plastic history stays.
+        for c in range(n_c):
+            springs.acc[scratch.idx[c]] = True
+        for p in range(springs.n_committed[0]):
+            if not springs.acc[springs.cells[p]]:
+                release_law(code, law_state, springs.cells[p])
         for c in range(n_c):
             i = scratch.idx[c]
             springs.acc[i] = True
@@ -467,7 +477,7 @@ def path_step(
             commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
         springs.n_committed[0] = n_c
     return StepSums(
-        sums[0], sums[1], sums[2], n_c, n_slip, work, sums[3], sums[4], sums[5], n_closed
+        sums[0], sums[1], sums[2], n_touch, n_slip, work, sums[3], sums[4], sums[5], n_closed
     )
 
 

@@ -15,7 +15,7 @@ from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline
 from .geometry import check_bodies, check_positive, contact_geometry
 from .kernel import run_loading
-from .laws import ContactLaw, Hertz, check_law
+from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
 
 if TYPE_CHECKING:
     from .segments import Segment
@@ -144,7 +144,13 @@ def simulate(
         points), e.g. for the realizations of an ensemble.
     law : ContactLaw, optional
         Local normal contact law (:mod:`splinecontact.contact.laws`); default
-        :class:`~splinecontact.contact.laws.Hertz`, F = (π/4)E*δ (eq. 10).
+        :class:`~splinecontact.contact.laws.Hertz`, F = (π/4)E*δ (eq. 10). Also
+        :class:`~splinecontact.contact.JKR`, :class:`~splinecontact.contact.DMT`,
+        :class:`~splinecontact.contact.MaugisDugdale` (adhesion; work of adhesion [J/m²],
+        Dugdale stress [GPa]) and :class:`~splinecontact.contact.ElasticPlastic` (yield strength
+        or hardness [GPa]), or :func:`~splinecontact.contact.make_law` by name
+        (``docs/contact-laws.md``; the Sec. 4 proposal). Their history (jump-in/out, the plastic
+        residual interference) shows on a ``path`` that unloads.
 
     Returns
     -------
@@ -195,17 +201,25 @@ def simulate(
     check_positive("alpha", alpha, "")
     check_positive("x0", x0, " µm")
     law = Hertz() if law is None else check_law(law)
+    fits = None
+    if getattr(law, "needs_radius", False):
+        check_bodies(lower, upper)
+        fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
+        law = bind_law(law, e_star, _reach_radius(lower, fits))
+    elif law.code != Hertz.code:
+        law = bind_law(law, e_star, 0.0)
     if path is not None:
         from .loadpath import simulate_path
 
         return simulate_path(
             lower, upper, path, steps=steps, final_displacement=final_displacement, e_star=e_star,
             g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, record_contacts=record_contacts, law=law,
+            fits=fits,
         )  # fmt: skip
     record_steps = _record_steps(record_contacts, steps)
 
     check_bodies(lower, upper)
-    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
     geometry = contact_geometry(
         lower, upper, steps=steps, final_displacement=final_displacement,
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
@@ -229,8 +243,24 @@ def simulate(
     return build_result(
         lower, upper, (fit_l, fit_u), run.curves, run.contacts, steps=steps,
         final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
-        mu0=mu0, alpha=alpha, x0=x0,
+        mu0=mu0, alpha=alpha, x0=x0, extra=law_record(law),
     )  # fmt: skip
+
+
+def _reach_radius(lower: Profile, fits: tuple[SplineFit, SplineFit | None]) -> float:
+    """R_eff [µm] for which an adhesive law's reach is resolved: 2 × the 90th percentile of the
+    radii of the convex points of either body (from every 8th point). A contact of larger R_eff
+    (near an inflection) lets go at δ = −reach instead of at its own jump-out."""
+    radii = []
+    for fit in fits:
+        if fit is None:
+            continue
+        slope = fit.slope[::8]
+        kappa = -fit.second_derivative[::8] / (1.0 + slope * slope) ** 1.5
+        convex = kappa[kappa > 0.0]
+        if convex.size:
+            radii.append(1.0 / float(np.percentile(convex, 10.0)))
+    return 2.0 * max(radii) if radii else 2.0 * float(lower.x[-1] - lower.x[0])
 
 
 def spline_fits(

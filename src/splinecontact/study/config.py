@@ -28,6 +28,13 @@ An optional load path replaces ``steps`` and ``final_displacement`` by a sequenc
     tangential = 0.5            # u_T [µm] at the segment's end
     steps = 100
 
+An optional ``[law]`` table selects the local contact law (default Hertz, eq. 10)::
+
+    [law]
+    name = "jkr"                # hertz, jkr, dmt, maugis-dugdale or elastic-plastic
+    work_of_adhesion = 0.1      # [J/m²]; also cohesive_stress, yield_strength, hardness [GPa],
+                                # poisson_ratio, as the law takes them
+
 Every parameter a study can fix or sweep is listed in :data:`PARAMETERS` (built from the
 registry :data:`splinecontact.parameters.PARAMETERS`) with its type, range, default, unit and
 meaning. Unknown keys, wrong types and out-of-range values are refused with a
@@ -193,6 +200,43 @@ class PathSegmentSpec(BaseModel):
         return {k: v for k, v in self.model_dump().items() if v is not None}
 
 
+class LawSpec(BaseModel):
+    """The ``[law]`` table: the local contact law and its parameters (default Hertz).
+
+    ``name`` is one of ``hertz``, ``jkr``, ``dmt``, ``maugis-dugdale``, ``elastic-plastic``;
+    ``work_of_adhesion`` [J/m²], ``cohesive_stress`` [GPa], ``yield_strength`` or ``hardness``
+    [GPa] and ``poisson_ratio`` [1] as the law takes them (``docs/contact-laws.md``).
+    """
+
+    model_config = _STRICT
+
+    name: str
+    work_of_adhesion: Finite | None = None
+    cohesive_stress: Finite | None = None
+    yield_strength: Finite | None = None
+    hardness: Finite | None = None
+    poisson_ratio: Finite | None = None
+
+    @model_validator(mode="after")
+    def _valid_law(self) -> LawSpec:
+        from ..contact import make_law
+        from ..errors import ContactLawError
+
+        try:
+            make_law(self.name, **self.parameters())
+        except ContactLawError as error:
+            raise ValueError(str(error)) from None
+        return self
+
+    def parameters(self) -> dict[str, float]:
+        """The law's parameters that are given."""
+        return {k: v for k, v in self.model_dump().items() if k != "name" and v is not None}
+
+    def as_dict(self) -> dict[str, Any]:
+        """``name`` and the given parameters."""
+        return {"name": self.name, **self.parameters()}
+
+
 class OutputSection(BaseModel):
     """The ``[output]`` section: how to run (does not change the stored results)."""
 
@@ -215,6 +259,7 @@ class StudyConfig(BaseModel):
     sweep: SweptParameters = Field(default_factory=SweptParameters)  # type: ignore[valid-type]
     output: OutputSection = Field(default_factory=OutputSection)
     path: Annotated[list[PathSegmentSpec], Field(min_length=1)] | None = None
+    law: LawSpec | None = None
 
     _sweep_order: tuple[str, ...] = PrivateAttr(default=())
 
@@ -374,6 +419,8 @@ class StudyConfig(BaseModel):
         out = {name: params[name] for name in PARAMETERS}
         if self.path is not None:
             out["path"] = self.path_segments
+        if self.law is not None:
+            out["law"] = self.law.as_dict()
         return out
 
     @property
@@ -397,6 +444,8 @@ class StudyConfig(BaseModel):
         }
         if self.path is not None:
             ident["path"] = [dict(segment) for segment in self.path_segments or ()]
+        if self.law is not None:
+            ident["law"] = self.law.as_dict()
         return ident
 
     def to_toml(self) -> str:
@@ -414,6 +463,9 @@ class StudyConfig(BaseModel):
             for k, v in self.output.model_dump().items()
             if v is not None
         ]
+        if "law" in ident:
+            lines += ["", "[law]"]
+            lines += [f"{k} = {format_toml_value(v)}" for k, v in ident["law"].items()]
         for segment in ident.get("path", ()):
             lines += ["", "[[path]]"]
             lines += [f"{k} = {format_toml_value(v)}" for k, v in segment.items()]
@@ -447,6 +499,7 @@ _SECTIONS: dict[str, type[BaseModel]] = {
     "sweep": SweptParameters,
     "output": OutputSection,
     "path": PathSegmentSpec,
+    "law": LawSpec,
 }
 
 

@@ -105,7 +105,8 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         One value for every name in :data:`splinecontact.parameters.PARAMETERS` (units there), and
         optionally ``path``: a sequence of mappings of :class:`splinecontact.Segment` keyword
         arguments (δ_N [µm] or F_N [mN/µm], u_T [µm], steps), which replaces ``steps`` and
-        ``final_displacement``.
+        ``final_displacement``, and optionally ``law``: ``name`` and the parameters of a contact
+        law (``docs/contact-laws.md``; default Hertz).
     seed : numpy.random.SeedSequence
         The realization's seed (:func:`realization_seed`). Rough-on-rough: passed to
         ``weierstrass_mandelbrot_pair``. Rough-on-flat: the lower profile is generated from the
@@ -133,6 +134,11 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         for name in PATH_REPLACES:
             sim.pop(name, None)
         sim["path"] = [Segment(**segment) for segment in segments]
+    law = parameters.get("law")
+    if law is not None:
+        from ..contact import make_law
+
+        sim["law"] = make_law(**law)
     # per-realization diagnostics would repeat once per realization (and from workers)
     sim["diagnostics"] = False
     if parameters["contact_type"] == "rough-on-rough":

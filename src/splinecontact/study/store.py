@@ -238,6 +238,10 @@ def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]
             "finished": "",
         }
     )
+    if config.law is not None:  # the contact law, as single results record it
+        from ..contact.laws import law_record, make_law
+
+        attrs.update(law_record(make_law(**config.law.as_dict())))
     return xr.Dataset(data_vars, coords=coords, attrs=attrs), encoding
 
 

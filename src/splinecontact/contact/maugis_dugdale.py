@@ -1,0 +1,487 @@
+"""2D Maugis–Dugdale adhesive line contact (Baney & Hui 1997; Johnson & Greenwood 2008).
+
+Conventions as in :mod:`.adhesion` (R = R_eff/2, width √2·b, the 2D approach referred to β
+times the half-width of the zone each part of the pressure loads, ``docs/contact-laws.md``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import ClassVar, Self
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from .adhesion import (
+    MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE,
+    _check_sigma,
+    _check_w,
+)
+
+__all__ = [
+    "MaugisDugdale",
+    "md_approach",
+    "md_branch",
+    "md_evaluate",
+    "md_fold",
+    "md_force",
+    "md_gap_residual",
+    "md_noncontact",
+    "tabor_parameter",
+]
+
+_PI = math.pi
+
+#: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
+#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
+#: R_eff [µm], branch, t) that lets the commit of a step reuse its trial evaluation.
+N_STATE = 9
+
+# --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
+#
+# Contact |x| < b, Dugdale tension σ0 on b < |x| < c, t = √(c² − b²)/b, m = c/b = √(1 + t²).
+# With a_k = 4σ0/(π E*) and R = R_eff/2:
+#   (MD-P) P = π E* b²/(4R) − 2σ0 b t
+#   (MD-h) h0 = b² (m t − asinh t)/(2R) + a_k b (t asinh t − m ln m)      (gap at x = c)
+#   (MD-δ) δ = b²/R + a_k b (m asinh t − t (5/2 + ln m))
+# Out of contact (adhesive zone |x| < c, no contact): δ = c²/(2R) − α c − h0 with
+# α = a_k (5/2 − 2 ln 2), P = −2σ0 c, valid while δ < −a_k c (5/2 − ln 2) (gap at x = 0 > 0).
+
+
+@numba.njit(cache=True, nogil=True)
+def _mt_minus_asinh(t: float) -> float:
+    if t < 1e-3:
+        t2 = t * t
+        return t * t2 * (2.0 / 3.0 - t2 / 5.0 + 3.0 * t2 * t2 / 28.0)
+    return math.sqrt(1.0 + t * t) * t - math.asinh(t)
+
+
+@numba.njit(cache=True, nogil=True)
+def md_gap_residual(
+    b: float, t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> float:
+    """(MD-h) minus h0 [µm]: zero when the gap at the end of the Dugdale zone equals h0 = w/σ0.
+
+    ``b`` half-width [µm], ``t`` = √(c² − b²)/b [1], ``w`` [mN/µm], ``sigma0`` [GPa].
+    """
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    m = math.sqrt(1.0 + t * t)
+    return (
+        b * b * _mt_minus_asinh(t) / (2.0 * r)
+        + a_k * b * (t * math.asinh(t) - m * 0.5 * math.log1p(t * t))
+        - w / sigma0
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_t(b: float, r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    # (MD-h) is increasing in t from −h0 at t = 0: safeguarded Newton on a bracket.
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    lo = 0.0
+    # Start near the root: the smaller of the roots of the two terms' leading orders
+    # (a_k b t²/2 = h0 and b² t³/(3R) = h0), then double until the residual is ≥ 0.
+    h0 = w / sigma0
+    hi = min(math.sqrt(2.0 * h0 / (a_k * b)), (3.0 * r * h0 / (b * b)) ** (1.0 / 3.0))
+    if not hi > 0.0:
+        hi = 1.0
+    for _ in range(2000):
+        if md_gap_residual(b, hi, r_eff, e_star, w, sigma0) >= 0.0:
+            break
+        lo = hi
+        hi *= 2.0
+    t = hi
+    for _ in range(200):
+        g = md_gap_residual(b, t, r_eff, e_star, w, sigma0)
+        if g > 0.0:
+            hi = t
+        else:
+            lo = t
+        m = math.sqrt(1.0 + t * t)
+        dg = b * b * t * t / (r * m) + a_k * b * (math.asinh(t) - t / m * 0.5 * math.log1p(t * t))
+        t_new = t - g / dg if dg > 0.0 else 0.5 * (lo + hi)
+        if not lo < t_new < hi:
+            t_new = 0.5 * (lo + hi)
+        if abs(t_new - t) <= 1e-15 * t or hi - lo <= 1e-15 * hi:
+            return t_new
+        t = t_new
+    return t
+
+
+@numba.njit(cache=True, nogil=True)
+def md_branch(
+    b: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float]:
+    """The Maugis–Dugdale contact of half-width b: (δ [µm], P [mN/µm], c [µm]) by (MD-h),
+    (MD-δ), (MD-P)."""
+    t = _md_t(b, r_eff, e_star, w, sigma0)
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    m = math.sqrt(1.0 + t * t)
+    delta = b * b / r + a_k * b * (m * math.asinh(t) - t * (2.5 + 0.5 * math.log1p(t * t)))
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    return delta, force, b * m
+
+
+def md_force(half_width: float, outer: float, r_eff: float, e_star: float, sigma0: float) -> float:
+    """(MD-P) P = π E* b²/(4R) − 2σ0 √(c² − b²) [mN/µm] for contact half-width b and Dugdale
+    zone half-width c [µm]."""
+    r = 0.5 * r_eff
+    return float(
+        0.25 * _PI * e_star * half_width**2 / r
+        - 2.0 * sigma0 * math.sqrt(max(outer * outer - half_width * half_width, 0.0))
+    )
+
+
+def md_approach(
+    half_width: float, outer: float, r_eff: float, e_star: float, sigma0: float
+) -> float:
+    """(MD-δ) δ = b²/R + (4σ0/(πE*)) [c·acosh(c/b) − √(c²−b²)(5/2 + ln(c/b))] [µm]."""
+    r = 0.5 * r_eff
+    k = math.sqrt(max(outer * outer - half_width * half_width, 0.0))
+    return float(
+        half_width**2 / r
+        + 4.0
+        * sigma0
+        / (_PI * e_star)
+        * (outer * math.acosh(outer / half_width) - k * (2.5 + math.log(outer / half_width)))
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def md_noncontact(
+    delta: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, bool]:
+    """Adhesive zone without contact at overlap δ < 0: (P [mN/µm], c [µm], exists).
+
+    The stable root c = αR + √(α²R² + 2R(h0 + δ)) of δ = c²/(2R) − αc − h0; ``exists`` is
+    False below the fold δ = −h0 − α²R/2. Whether the surfaces already touch is left to the
+    caller (δ ≥ −a_k c (5/2 − ln 2)).
+    """
+    r = 0.5 * r_eff
+    alpha = 4.0 * sigma0 / (_PI * e_star) * (2.5 - 2.0 * math.log(2.0))
+    disc = alpha * alpha * r * r + 2.0 * r * (w / sigma0 + delta)
+    if disc < 0.0:
+        return 0.0, 0.0, False
+    c = alpha * r + math.sqrt(disc)
+    return -2.0 * sigma0 * c, c, True
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_of_t(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float]:
+    # The contact branch parametrized by t = √(c² − b²)/b: (MD-h) is a quadratic in b, so
+    # b(t), δ(t) and P(t) are closed forms (no nested solve). b decreases as t grows.
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    h0 = w / sigma0
+    m = math.sqrt(1.0 + t * t)
+    log_m = 0.5 * math.log1p(t * t)
+    asinh_t = math.asinh(t)
+    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_b = a_k * (t * asinh_t - m * log_m)
+    b = 2.0 * h0 / (big_b + math.sqrt(big_b * big_b + 4.0 * big_a * h0))
+    delta = b * b / r + a_k * b * (m * asinh_t - t * (2.5 + log_m))
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    return b, delta, force
+
+
+_LOG_T_MIN = math.log(1e-9)
+_LOG_T_MAX = math.log(1e9)
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
+    # (t_f, δ_f): the minimum of δ(t). A monotone (DMT-like) branch has it at the largest t
+    # searched (b → 0), where it meets the branch without contact.
+    n = 72
+    lo = _LOG_T_MIN
+    hi = _LOG_T_MAX
+    best = 0
+    best_d = 1e300
+    for i in range(n):
+        d = _md_of_t(math.exp(lo + (hi - lo) * i / (n - 1)), r_eff, e_star, w, sigma0)[1]
+        if d < best_d:
+            best_d = d
+            best = i
+    if best == n - 1:
+        return math.exp(hi), best_d
+    a = lo + (hi - lo) * max(best - 1, 0) / (n - 1)
+    c = lo + (hi - lo) * (best + 1) / (n - 1)
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1 = c - g * (c - a)
+    x2 = a + g * (c - a)
+    f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+    f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+    for _ in range(100):
+        if f1 < f2:
+            c = x2
+            x2 = x1
+            f2 = f1
+            x1 = c - g * (c - a)
+            f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+        else:
+            a = x1
+            x1 = x2
+            f1 = f2
+            x2 = a + g * (c - a)
+            f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+        if c - a < 1e-12:
+            break
+    t_f = math.exp(0.5 * (a + c))
+    return t_f, _md_of_t(t_f, r_eff, e_star, w, sigma0)[1]
+
+
+@numba.njit(cache=True, nogil=True)
+def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
+    """Fold of the contact branch, (b_f [µm], δ_f [µm]): the minimum of δ(b). A monotone branch
+    (DMT-like) gives b_f ≈ 0 and δ_f = δ(0⁺), where it meets the branch without contact."""
+    t_f, d_f = _md_fold_t(r_eff, e_star, w, sigma0)
+    return _md_of_t(t_f, r_eff, e_star, w, sigma0)[0], d_f
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_contact_root(
+    delta: float, t_f: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
+) -> float:
+    # δ(t) decreases on (0, t_f]: Illinois (regula falsi) in x = ln t on a bracket with
+    # δ(lo) ≥ δ ≥ δ(hi), first tried tight around the previous step's t.
+    x_f = math.log(t_f)
+    f_f = _md_of_t(t_f, r_eff, e_star, w, sigma0)[1] - delta
+    if f_f >= 0.0:
+        return t_f
+    # Bracket grown geometrically around the previous step's t (or down from the fold).
+    centre = math.log(guess) if 0.0 < guess < t_f else x_f
+    width = 0.02
+    lo = centre - width
+    f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
+    hi = min(centre + width, x_f)
+    f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
+    for _ in range(200):
+        if f_lo >= 0.0 and f_hi <= 0.0:
+            break
+        width *= 4.0
+        if f_lo < 0.0:  # the root is left of lo
+            hi = lo
+            f_hi = f_lo
+            lo = centre - width
+            f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
+        else:  # f_hi > 0: the root is right of hi (and left of the fold)
+            lo = hi
+            f_lo = f_hi
+            hi = min(centre + width, x_f)
+            f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
+    side = 0
+    x = lo
+    for _ in range(300):
+        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        f = _md_of_t(math.exp(x), r_eff, e_star, w, sigma0)[1] - delta
+        if abs(f) <= 1e-14 * abs(delta):
+            return math.exp(x)
+        if f > 0.0:
+            lo = x
+            f_lo = f
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
+        else:
+            hi = x
+            f_hi = f
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+        if hi - lo <= 1e-13:
+            break
+    return math.exp(x)
+
+
+@numba.njit(cache=True, nogil=True)
+def md_evaluate(
+    delta: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[float, float, float, float, float, float, float]:
+    """One Maugis–Dugdale contact under displacement control.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap of the undeformed surface spheres δ [µm] (eq. 10; < 0 at a gap).
+    r_eff, e_star, w, sigma0 : float
+        R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
+    state : ndarray
+        The contact's :data:`N_STATE` values. Only memos are written here (the fold, a function
+        of R_eff alone, and this evaluation's inputs and result); the caller stores the returned
+        branch and t when the step is committed.
+
+    Returns
+    -------
+    (force, width, branch, t, r_cached, t_fold, delta_fold)
+        Force [mN/µm], width √2·b [µm], and the new state values of the first five columns.
+    """
+    out = _md_evaluate(delta, r_eff, e_star, w, sigma0, state)
+    if state.size >= N_STATE:
+        state[5] = delta
+        state[6] = r_eff
+        state[7] = out[2]
+        state[8] = out[3]
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_evaluate(
+    delta: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[float, float, float, float, float, float, float]:
+    """One Maugis–Dugdale contact under displacement control.
+
+    Parameters
+    ----------
+    delta : float
+        Overlap of the undeformed surface spheres δ [µm] (eq. 10; < 0 at a gap).
+    r_eff, e_star, w, sigma0 : float
+        R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
+    state : ndarray
+        The contact's :data:`N_STATE` values (branch, t = √(c² − b²)/b of the last step, cached
+        R_eff, t and δ of the fold). Only the fold memo (the last three, a function of R_eff
+        alone) is written here; the caller stores the returned branch and t when the step is
+        committed.
+
+    Returns
+    -------
+    (force, width, branch, t, r_cached, t_fold, delta_fold)
+        Force [mN/µm], width √2·b [µm], and the new state values.
+    """
+    if w == 0.0:
+        if delta > 0.0:
+            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    branch = state[0]
+    h0 = w / sigma0
+    if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4]
+    if state[2] == r_eff and r_eff > 0.0:
+        t_f = state[3]
+        d_f = state[4]
+    else:
+        t_f, d_f = _md_fold_t(r_eff, e_star, w, sigma0)
+        # Memo of a pure function of R_eff (not history): a trial evaluation may keep it.
+        state[2] = r_eff
+        state[3] = t_f
+        state[4] = d_f
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    in_contact = branch == 2.0 and delta >= d_f
+    if not in_contact:
+        force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
+        if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f  # adhesive zone, gap at x = 0 open
+        if delta < d_f:
+            # no zone without contact (below its fold, or it would close the gap) and the contact
+            # branch does not reach this δ: apart (a jump-out if it was attached)
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f
+    guess = state[1] if branch == 2.0 else 0.0
+    t = _md_contact_root(delta, t_f, r_eff, e_star, w, sigma0, guess)
+    b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f
+
+
+def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
+    """Maugis' parameter λ = 2σ0 (R/(π w E*²))^{1/3} with R = R_eff/2 [1]: JKR as λ → ∞,
+    DMT as λ → 0. ``w`` in mN/µm, ``sigma0`` in GPa."""
+    r = 0.5 * r_eff
+    return float(2.0 * sigma0 * (r / (_PI * w * e_star * e_star)) ** (1.0 / 3.0))
+
+
+@dataclass(frozen=True)
+class MaugisDugdale:
+    """2D Maugis–Dugdale line contact (Baney & Hui 1997; Johnson & Greenwood 2008).
+
+    A Dugdale stress σ0 acts where the gap is below h0 = w/σ0, inside the contact's adhesive zone
+    b < |x| < c; before contact the zone |x| < c attracts alone. Spans JKR (λ → ∞) and DMT
+    (λ → 0) through :func:`tabor_parameter`.
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
+    cohesive_stress : float
+        Dugdale stress σ0 [GPa] (> 0).
+    """
+
+    code: ClassVar[int] = 3
+    name: ClassVar[str] = "maugis-dugdale"
+    n_state: ClassVar[int] = N_STATE
+    #: The reach depends on the largest R_eff (``bind`` needs it).
+    needs_radius: ClassVar[bool] = True
+
+    work_of_adhesion: float = 0.1
+    cohesive_stress: float = 1.0
+    reach_bound: float = field(default=0.0, repr=False, compare=False)
+
+    def validate(self) -> None:
+        """Raise :class:`~splinecontact.errors.WorkOfAdhesionError` or
+        :class:`~splinecontact.errors.CohesiveStressError`."""
+        _check_w(self.work_of_adhesion)
+        _check_sigma(self.cohesive_stress)
+
+    @property
+    def w(self) -> float:
+        """Work of adhesion [mN/µm]."""
+        return float(self.work_of_adhesion) * MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE
+
+    @property
+    def range(self) -> float:
+        """Range of the attraction h0 = w/σ0 [µm]."""
+        return self.w / float(self.cohesive_stress)
+
+    def parameters(self) -> NDArray[np.float64]:
+        """Kernel parameters: ``[w [mN/µm], σ0 [GPa]]``."""
+        return np.array([self.w, float(self.cohesive_stress)])
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E* [GPa], w [mN/µm], σ0 [GPa]]``."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+    def settings(self) -> dict[str, float]:
+        """Parameters as given, recorded with results (``work_of_adhesion`` [J/m²],
+        ``cohesive_stress`` [GPa])."""
+        return {
+            "work_of_adhesion": float(self.work_of_adhesion),
+            "cohesive_stress": float(self.cohesive_stress),
+        }
+
+    @property
+    def reach(self) -> float:
+        """Reach [µm] bound by :meth:`bind` (0 before)."""
+        return self.reach_bound
+
+    def bind(self, e_star: float, r_eff_max: float) -> Self:
+        """This law with its reach for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
+        return replace(self, reach_bound=self.reach_for(e_star, r_eff_max))
+
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:
+        """Deepest separation [µm] at which a contact of R_eff ≤ ``r_eff_max`` still attracts."""
+        if self.w == 0.0:
+            return 0.0
+        sigma0 = float(self.cohesive_stress)
+        a_k = 4.0 * sigma0 / (_PI * e_star)
+        alpha = a_k * (2.5 - 2.0 * math.log(2.0))
+        # The zone without contact has its fold at c = αR, a state with the gap at x = 0 open
+        # only for R < h0/(α²/2 + a_k α ln 2); its deepest fold is −h0 − α²R/2 at that R.
+        r_open = self.range / (0.5 * alpha * alpha + a_k * alpha * math.log(2.0))
+        free_fold = self.range + 0.5 * alpha * alpha * min(0.5 * r_eff_max, r_open)
+        _, d_f = md_fold(r_eff_max, e_star, self.w, sigma0)
+        return max(free_fold, -float(d_f), 0.0)
