@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._checks import LENGTH_LIMIT, check_integer, check_real, check_seed
+from ._memory import empty, grid
 from .errors import ParameterError
 from .profile import MIN_STEP, Profile
 
@@ -442,7 +443,7 @@ def _generate(
 
     omega = np.asarray(omegas, dtype=np.float64)
     coeff = np.asarray(amps, dtype=np.complex128)
-    z = np.empty(n_points)
+    z = empty(n_points)
     if omega.size:
         # the mean of eq. 1 on the grid is known in closed form, so the kernel writes heights
         # about their mean and sums |z| on the fly; one more pass removes the last rounding of
@@ -483,7 +484,7 @@ def _generate(
             "the contact computation would overflow; give a smaller ra"
         )
     if x is None:
-        x = np.linspace(0.0, length, n_points)
+        x = grid(length, n_points)
         x.setflags(write=False)
     metadata: dict[str, Any] = {
         "source": "weierstrass_mandelbrot",
@@ -548,7 +549,7 @@ def weierstrass_mandelbrot_pair(
         **arguments, seed=None
     )
     # both profiles share one read-only grid array
-    x = np.linspace(0.0, length, n_points)
+    x = grid(length, n_points)
     x.setflags(write=False)
     params = (dimension, n_points, length, wavelength, gamma, directions, n_max, ra,
               arguments["amplitude_law"])  # fmt: skip

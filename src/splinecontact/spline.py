@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._checks import check_real
+from ._memory import empty
 from .errors import ParameterError
 from .profile import Profile
 
@@ -280,9 +281,8 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
             f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
             "line; use x0 of the order of 1 µm and alpha near 2"
         )
-    # outputs allocated by numpy, which asks the kernel for huge pages on large arrays (fewer
-    # page faults than the kernel's own allocations at 10⁷ points)
-    f, slope, second = (np.empty(profile.z.size) for _ in range(3))
+    # outputs allocated outside numpy's huge-page advice (see splinecontact._memory)
+    f, slope, second = (empty(profile.z.size) for _ in range(3))
     _reinsch_uniform(profile.z, lam_grid, dx, dx**2, f, slope, second)
     for array in (f, slope, second):
         array.setflags(write=False)
