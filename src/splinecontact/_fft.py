@@ -20,6 +20,7 @@ Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(�
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba
 import numpy as np
@@ -417,6 +418,14 @@ class CirculantConvolution:
         self.hr, self.hi = _unit_circle(np.arange(big), n)
         size = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
         self.ar, self.ai, self.br, self.bi = (np.empty(size) for _ in range(4))
+
+    @property
+    def arguments(self) -> tuple[Any, ...]:
+        """The arguments of :func:`_convolve` after (values, out), for compiled callers."""
+        return (
+            self.scaled, self.ar, self.ai, self.br, self.bi, self.n1, self.n2, self.w1r,
+            self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr, self.hi,
+        )  # fmt: skip
 
     def __call__(self, values: NDArray[np.float64], out: NDArray[np.float64]) -> None:
         """Write irfft(λ · rfft(values)) into ``out`` (both of length n, float64, contiguous)."""

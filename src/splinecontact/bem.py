@@ -49,7 +49,7 @@ import numpy as np
 import scipy.fft as sfft
 from numpy.typing import ArrayLike, NDArray
 
-from ._fft import CirculantConvolution, fast_size
+from ._fft import CirculantConvolution, _convolve, fast_size
 from .errors import BEMError, NoConvergenceError
 from .profile import Profile
 
@@ -873,6 +873,10 @@ class _Operator:
         np.fft.irfft(self.spectrum, self.n, out=out)
 
 
+#: Run the whole load-control loop compiled when the operator is (power-of-two grids); False
+#: runs the same kernels from Python (kept for tests: both give the same iterates).
+_COMPILED_LOOP = True
+
 #: Largest grid [nodes] whose operator uses scipy.fft's allocating transforms.
 _SMALL_FFT = 2**14
 
@@ -882,6 +886,69 @@ _SMALL_FFT = 2**14
 #: (a negative limit re-applies the operator after every iteration).
 def _sparse_limit(n: int) -> int:
     return 3 * max(4, int(math.log2(max(n, 2))))
+
+
+@numba.njit(cache=True, nogil=True)
+def _k_pk_loop(
+    z: NDArray[np.float64],
+    p: NDArray[np.float64],
+    t: NDArray[np.float64],
+    g: NDArray[np.float64],
+    r: NDArray[np.float64],
+    u: NDArray[np.float64],
+    column2: NDArray[np.float64],
+    changed: NDArray[np.int64],
+    delta: NDArray[np.float64],
+    limit: int,
+    scale: float,
+    tol: float,
+    tau_fallback: float,
+    mean_pressure: float,
+    max_iterations: int,
+    op: tuple[Any, ...],
+) -> tuple[bool, int, float, float]:  # pragma: no cover - compiled
+    """The loop of :func:`_pk_load`, compiled whole, with the compiled operator ``op``.
+
+    ``op`` is the argument tuple of :func:`splinecontact._fft._convolve` after its first two
+    (values, out). Same kernels in the same order as the Python loop, so the same iterates;
+    returns (converged, iterations, residual, separation).
+    """
+    _convolve(p, u, *op)
+    exact = True
+    loaded_sum, count = _k_loaded_sum(p, u, z)
+    g_norm_old = 0.0
+    conjugate = False
+    residual = np.inf
+    iteration = 0
+    while True:
+        separation = -loaded_sum / count
+        residual, g_norm, t_sum, gt = _k_gap_and_direction(
+            p, u, z, g, t, separation, scale, tol, conjugate, g_norm_old,
+            iteration < max_iterations,
+        )  # fmt: skip
+        if residual <= tol:
+            if exact:
+                return True, iteration, residual, separation
+            _convolve(p, u, *op)
+            exact = True
+            loaded_sum, count = _k_loaded_sum(p, u, z)
+            continue
+        if iteration == max_iterations:
+            break
+        iteration += 1
+        g_norm_old = g_norm
+        _convolve(t, r, *op)
+        loaded_sum, new_count, overlap, incremental = _k_advance(
+            p, u, r, t, g, z, count, t_sum, gt, tau_fallback, mean_pressure, column2, changed,
+            delta, limit,
+        )  # fmt: skip
+        conjugate = not overlap
+        count = new_count
+        if not incremental:
+            _convolve(p, u, *op)
+            loaded_sum, count = _k_loaded_sum(p, u, z)
+        exact = not incremental
+    return False, iteration, residual, 0.0
 
 
 def _pk_load(
@@ -918,6 +985,18 @@ def _pk_load(
     g = np.empty(n)
     r = np.empty(n)
     u = np.empty(n)
+    if apply.compiled is not None and _COMPILED_LOOP:
+        converged, iteration, residual, separation = _k_pk_loop(
+            z, p, t, g, r, u, column2, changed, delta, limit, scale, tol, tau_fallback,
+            mean_pressure, max_iterations, apply.compiled.arguments,
+        )  # fmt: skip
+        if converged:
+            return _Solution(p, g, separation, iteration, residual)
+        raise NoConvergenceError(
+            f"load control at mean pressure {mean_pressure:.6g} GPa did not converge in "
+            f"{max_iterations} iterations (residual {residual:.3g} > tol {tol:.3g}); raise "
+            "max_iterations or tol, or approach this load in smaller steps (load_path)"
+        )
     apply(p, u)
     exact = True
     loaded_sum, count = _k_loaded_sum(p, u, z)
