@@ -49,7 +49,7 @@ def one(n_points: int, seed: int) -> dict[str, dict[str, float]]:
         )
     )
     fits, times["spline"] = _timed(lambda: (fit_spline(lower), fit_spline(upper)))
-    (geometry, _), times["geometry"] = _timed(
+    geometry, times["geometry"] = _timed(
         lambda: contact_geometry(
             lower,
             upper,
