@@ -41,7 +41,7 @@ from .._checks import LENGTH_LIMIT, MAGNITUDE_LIMIT, check_real
 from ..errors import GridMismatchError, ParameterError
 from ..profile import UNIFORM_GRID_RTOL, Profile
 from ..spheres import own_frame_geometry
-from ..spline import SplineFit, fit_spline
+from ..spline import SplineFit, fit_spline_pair
 
 __all__ = [
     "ContactGeometry",
@@ -212,8 +212,7 @@ def contact_geometry(
                 "both bodies must share one grid (resample one of them)"
             )
     if fits is None:
-        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-        fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
+        fit_l, fit_u = fit_spline_pair(lower, None if flat else upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
         fit_l, fit_u = fits
     r_min = 0.5 * lower.dx
