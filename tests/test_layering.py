@@ -24,6 +24,7 @@ LAYERS: list[set[str]] = [
         "_checks",
         "_memory",
         "_fft",
+        "_roughness",
         "parameters",
         "schema",
         "outputs",
