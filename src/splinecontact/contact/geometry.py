@@ -103,34 +103,61 @@ class ContactGeometry:
     mean_gap0: float
 
 
-@numba.njit(cache=True, nogil=True)
+#: Points per chunk of :func:`_place_bodies`' candidate search (a chunk without candidates is
+#: one vector loop).
+_PLACE_CHUNK = 256
+
+
+@numba.njit(cache=True, nogil=True, fastmath={"reassoc", "nsz"})
 def _place_bodies(
     f_l: NDArray[np.float64], f_u: NDArray[np.float64], flat: bool, final: float
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], float]:  # pragma: no cover - compiled
-    """Gap at δ_N = 0 (minimum exactly 0), indices with gap ≤ final, and the mean gap."""
+    """Gap at δ_N = 0 (minimum exactly 0) at the indices with gap ≤ final, those indices, and
+    the mean gap over all points.
+
+    The gap of the other points is never needed, so no array of n gaps is made: one pass finds
+    the highest point, a second the mean gap and the candidates (chunks without one are a
+    vector loop).
+    """
     n = f_l.size
     offset = -np.inf
     for i in range(n):
         total = f_l[i] if flat else f_u[i] + f_l[i]
         if total > offset:
             offset = total
-    gap0 = np.empty(n)
-    count = 0
     gap_sum = 0.0
-    for i in range(n):
-        total = f_l[i] if flat else f_u[i] + f_l[i]
-        g = offset - total
-        gap0[i] = g
-        gap_sum += g
-        if g <= final:
-            count += 1
-    candidates = np.empty(count, dtype=np.int64)
-    k = 0
-    for i in range(n):
-        if gap0[i] <= final:
-            candidates[k] = i
-            k += 1
-    return gap0, candidates, gap_sum / n
+    count = 0
+    capacity = 1024
+    gaps = np.empty(capacity)
+    candidates = np.empty(capacity, dtype=np.int64)
+    for start in range(0, n, _PLACE_CHUNK):
+        lower = f_l[start : start + _PLACE_CHUNK]
+        upper = f_u[start : start + _PLACE_CHUNK] if not flat else lower
+        block_sum = 0.0
+        found = 0
+        for i in range(lower.size):
+            g = offset - (lower[i] if flat else upper[i] + lower[i])
+            block_sum += g
+            found += 1 if g <= final else 0
+        gap_sum += block_sum
+        if found == 0:
+            continue
+        if count + found > capacity:
+            while count + found > capacity:
+                capacity *= 2
+            grown_gaps = np.empty(capacity)
+            grown_gaps[:count] = gaps[:count]
+            gaps = grown_gaps
+            grown = np.empty(capacity, dtype=np.int64)
+            grown[:count] = candidates[:count]
+            candidates = grown
+        for i in range(lower.size):
+            g = offset - (lower[i] if flat else upper[i] + lower[i])
+            if g <= final:
+                gaps[count] = g
+                candidates[count] = start + i
+                count += 1
+    return gaps[:count].copy(), candidates[:count].copy(), gap_sum / n
 
 
 def check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
@@ -238,10 +265,10 @@ def contact_geometry(
     # closes to within the law's reach by the last step are ever visited (detection
     # z^u ≤ z^l + reach).
     reach = check_positive("reach", reach, " µm", allow_zero=True)
-    gap0, candidates, mean_gap0 = _place_bodies(
+    gap_c, candidates, mean_gap0 = _place_bodies(
         f_l, f_l if fit_u is None else fit_u.f, fit_u is None, float(displacement[-1]) + reach
     )
-    closing = np.searchsorted(displacement, gap0[candidates] - reach, side="left")
+    closing = np.searchsorted(displacement, gap_c - reach, side="left")
     order_in = np.argsort(closing, kind="stable")
     order = candidates[order_in]
     counts = np.bincount(closing[order_in], minlength=steps + 1)
@@ -260,7 +287,7 @@ def contact_geometry(
     geometry = ContactGeometry(
         point=order.astype(np.int64),
         x=lower.x[order],
-        gap0=gap0[order],
+        gap0=gap_c[order_in],
         height_lower=f_l[order],
         curvature_lower=kappa_l,
         curvature_upper=kappa_u,
