@@ -33,8 +33,9 @@ def _timed(fn: Callable[[], Any]) -> tuple[Any, dict[str, float]]:
 
 
 def one(n_points: int, seed: int) -> dict[str, dict[str, float]]:
-    from splinecontact import fit_spline, weierstrass_mandelbrot_pair
+    from splinecontact import weierstrass_mandelbrot_pair
     from splinecontact.contact import contact_geometry, run_loading
+    from splinecontact.spline import fit_spline_pair
 
     length = 100.0 * n_points / 1_000_000
     times: dict[str, dict[str, float]] = {}
@@ -48,7 +49,7 @@ def one(n_points: int, seed: int) -> dict[str, dict[str, float]]:
             max_work=max(n_points * 420, 10_000_000_000),
         )
     )
-    fits, times["spline"] = _timed(lambda: (fit_spline(lower), fit_spline(upper)))
+    fits, times["spline"] = _timed(lambda: fit_spline_pair(lower, upper))
     geometry, times["geometry"] = _timed(
         lambda: contact_geometry(
             lower,
