@@ -135,7 +135,8 @@ _PAIR_THREAD_MIN_POINTS = 32_768
 @numba.njit(cache=True, nogil=True)
 def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
     grown = np.empty(capacity)
-    grown[: values.size] = values
+    for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
+        grown[i] = values[i]
     return grown
 
 

@@ -108,6 +108,22 @@ class ContactGeometry:
 _PLACE_CHUNK = 256
 
 
+@numba.njit(cache=True, nogil=True)
+def _grown(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
+    out = np.empty(capacity)
+    for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
+        out[i] = values[i]
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _grown_int(values: NDArray[np.int64], capacity: int) -> NDArray[np.int64]:  # pragma: no cover
+    out = np.empty(capacity, dtype=np.int64)
+    for i in range(values.size):
+        out[i] = values[i]
+    return out
+
+
 @numba.njit(cache=True, nogil=True, fastmath={"reassoc", "nsz"})
 def _place_bodies(
     f_l: NDArray[np.float64], f_u: NDArray[np.float64], flat: bool, final: float
@@ -125,6 +141,7 @@ def _place_bodies(
         total = f_l[i] if flat else f_u[i] + f_l[i]
         if total > offset:
             offset = total
+    zeros = np.zeros(_PLACE_CHUNK)  # the flat's heights (x + 0.0 is x for every x ≠ −0.0)
     gap_sum = 0.0
     count = 0
     capacity = 1024
@@ -132,32 +149,27 @@ def _place_bodies(
     candidates = np.empty(capacity, dtype=np.int64)
     for start in range(0, n, _PLACE_CHUNK):
         lower = f_l[start : start + _PLACE_CHUNK]
-        upper = f_u[start : start + _PLACE_CHUNK] if not flat else lower
+        upper = zeros[: lower.size] if flat else f_u[start : start + _PLACE_CHUNK]
         block_sum = 0.0
         found = 0
         for i in range(lower.size):
-            g = offset - (lower[i] if flat else upper[i] + lower[i])
+            g = offset - (upper[i] + lower[i])
             block_sum += g
             found += 1 if g <= final else 0
         gap_sum += block_sum
         if found == 0:
             continue
         if count + found > capacity:
-            while count + found > capacity:
-                capacity *= 2
-            grown_gaps = np.empty(capacity)
-            grown_gaps[:count] = gaps[:count]
-            gaps = grown_gaps
-            grown = np.empty(capacity, dtype=np.int64)
-            grown[:count] = candidates[:count]
-            candidates = grown
+            capacity = max(2 * capacity, count + found)
+            gaps = _grown(gaps, capacity)
+            candidates = _grown_int(candidates, capacity)
         for i in range(lower.size):
-            g = offset - (lower[i] if flat else upper[i] + lower[i])
+            g = offset - (upper[i] + lower[i])
             if g <= final:
                 gaps[count] = g
                 candidates[count] = start + i
                 count += 1
-    return gaps[:count].copy(), candidates[:count].copy(), gap_sum / n
+    return _grown(gaps[:count], count), _grown_int(candidates[:count], count), gap_sum / n
 
 
 def check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
