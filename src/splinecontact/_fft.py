@@ -168,23 +168,20 @@ def _batched_fft(
     self-sorting), ping-pong between x and y; ``w`` holds exp(−2πik/length) for k < length.
     Returns True when the result is in y.
     """
+    # one call site per stage kind (the buffers swapped by reference): the compiled stages are
+    # inlined where they are called, and every copy costs compilation time
     n = length
     s = 1
     in_y = False
     while n > 1:
+        src_r, src_i, dst_r, dst_i = (yr, yi, xr, xi) if in_y else (xr, xi, yr, yi)
         if n >= 4:
             m = n // 4
-            if in_y:
-                _stage4(yr, yi, xr, xi, m, s, batch, stride, wr, wi)
-            else:
-                _stage4(xr, xi, yr, yi, m, s, batch, stride, wr, wi)
+            _stage4(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
             s *= 4
         else:
             m = n // 2
-            if in_y:
-                _stage(yr, yi, xr, xi, m, s, batch, stride, wr, wi)
-            else:
-                _stage(xr, xi, yr, yi, m, s, batch, stride, wr, wi)
+            _stage(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
             s *= 2
         in_y = not in_y
         n = m
@@ -365,16 +362,13 @@ def _convolve(
 ) -> None:  # pragma: no cover - compiled
     """out = irfft(λ · rfft(values)); ``scaled`` = λ/(2n) (n/2 + 1 entries), h = exp(−2πik/n)."""
     _load(values, ar, ai, n1, n2)
-    if _complex_fft(ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti):
-        _middle(br, bi, ar, ai, scaled, hr, hi, n1, n2)
-        in_b = _complex_fft(ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
-    else:
-        _middle(ar, ai, br, bi, scaled, hr, hi, n1, n2)
-        in_b = not _complex_fft(br, bi, ar, ai, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
-    if in_b:
-        _store(br, bi, out, n1, n2)
-    else:
-        _store(ar, ai, out, n1, n2)
+    # forward: Z in a or b; conj(V) into the other one; inverse from there
+    in_b = _complex_fft(ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
+    zr, zi, vr, vi = (br, bi, ar, ai) if in_b else (ar, ai, br, bi)
+    _middle(zr, zi, vr, vi, scaled, hr, hi, n1, n2)
+    in_z = _complex_fft(vr, vi, zr, zi, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
+    fr, fi = (zr, zi) if in_z else (vr, vi)
+    _store(fr, fi, out, n1, n2)
 
 
 def _unit_circle(
