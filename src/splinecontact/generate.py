@@ -566,6 +566,12 @@ def weierstrass_mandelbrot_pair(
     (lower, upper) : tuple of Profile
         Both with heights pointing out of their own body, as a profilometer records them.
 
+    Notes
+    -----
+    From 32 768 points up the two profiles are generated on two threads at once (the compiled
+    sum releases the GIL); each depends only on its own seed, so the pair is bit-identical to
+    two :func:`weierstrass_mandelbrot` calls with the child seeds.
+
     Examples
     --------
     >>> from splinecontact import weierstrass_mandelbrot_pair
