@@ -259,7 +259,7 @@ def test_every_body_command_takes_the_same_reading_options() -> None:
 
 
 def test_generated_keys_are_the_study_parameter_names() -> None:
-    from splinecontact.cli._common import _GENERATED_KEYS
+    from splinecontact.cli._bodies import _GENERATED_KEYS
     from splinecontact.parameters import PARAMETERS
 
     assert set(_GENERATED_KEYS) - {"seed"} <= set(PARAMETERS)
@@ -658,7 +658,7 @@ def test_plot_of_a_study_export_says_what_plot_takes(tmp_path: Path) -> None:
 def test_generated_spec_round_trip(
     dimension: float, seed: int, n_points: int, ra: float, amplitude_law: str
 ) -> None:
-    from splinecontact.cli._common import format_generated_spec
+    from splinecontact.cli._bodies import format_generated_spec
 
     kwargs = {"dimension": dimension, "seed": seed, "n_points": n_points, "ra": ra,
               "amplitude_law": amplitude_law}  # fmt: skip

@@ -9,7 +9,7 @@ import pytest
 import typer
 
 from splinecontact.cli import app
-from splinecontact.cli._common import profile_reading, with_reading_options
+from splinecontact.cli._reading import profile_reading, with_reading_options
 
 READING = list(inspect.signature(profile_reading).parameters)
 UPPER = [name for name in READING if name.startswith("upper_")]

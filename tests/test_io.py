@@ -28,7 +28,7 @@ from splinecontact.io import (
     read_raw,
     write_profile,
 )
-from splinecontact.io._text import _resolution
+from splinecontact.io._tokens import _resolution
 from splinecontact.io._units import normalize_unit, unit_in_text
 from splinecontact.preprocess import Preprocessing
 

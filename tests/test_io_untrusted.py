@@ -49,7 +49,7 @@ from splinecontact.io import (
     X3PError,
     read_profile,
 )
-from splinecontact.io._text import _split_titles, _title_words
+from splinecontact.io._tokens import _split_titles, _title_words
 from splinecontact.io._units import bracketed, strip_bracketed, unit_in_text
 from splinecontact.preprocess import (
     Preprocessing,

@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 
 import typer
 
-from ._common import fail, handle_errors
+from ._errors import fail, handle_errors
 
 __all__ = ["register"]
 

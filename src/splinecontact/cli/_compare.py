@@ -2,7 +2,7 @@
 
 The comparison itself lives in :mod:`splinecontact.compare`; this module reads the options.
 Bodies are specs (FILE, ``flat``, ``generated:D=1.5,seed=3``) read with the shared options of
-:mod:`splinecontact.cli._common`, exactly as ``simulate`` reads them.
+:mod:`splinecontact.cli._reading`, exactly as ``simulate`` reads them.
 """
 
 from __future__ import annotations
@@ -15,17 +15,9 @@ from typing import Annotated
 import typer
 
 from ..errors import ParameterError
-from ._common import (
-    BODY_SPEC_HELP,
-    EStarOpt,
-    OverwriteOpt,
-    ProfileReading,
-    QuietOpt,
-    handle_errors,
-    load_bodies,
-    parse_body_spec,
-    with_reading_options,
-)
+from ._bodies import BODY_SPEC_HELP, load_bodies, parse_body_spec
+from ._errors import handle_errors
+from ._reading import EStarOpt, OverwriteOpt, ProfileReading, QuietOpt, with_reading_options
 
 __all__ = ["register"]
 

@@ -8,7 +8,9 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import ParameterError
-from ._common import MAX_SEED, OverwriteOpt, handle_errors
+from ._bodies import MAX_SEED
+from ._errors import handle_errors
+from ._reading import OverwriteOpt
 
 if TYPE_CHECKING:
     from ..profile import Profile

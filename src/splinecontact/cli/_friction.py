@@ -8,17 +8,9 @@ from typing import Annotated
 
 import typer
 
-from ._common import (
-    EStarOpt,
-    GStarOpt,
-    Mu0Opt,
-    OverwriteOpt,
-    ProfileReading,
-    handle_errors,
-    load_bodies,
-    parse_body_spec,
-    with_reading_options,
-)
+from ._bodies import load_bodies, parse_body_spec
+from ._errors import handle_errors
+from ._reading import EStarOpt, GStarOpt, Mu0Opt, OverwriteOpt, ProfileReading, with_reading_options
 
 __all__ = ["register"]
 

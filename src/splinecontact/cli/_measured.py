@@ -1,7 +1,7 @@
 """Commands for measured profiles: ``simulate`` and ``inspect``; the single-result plot.
 
 Bodies are given as specs (a FILE, ``flat`` or ``generated:D=1.5,seed=3,...``) read with the
-shared reading and preprocessing options: see :mod:`splinecontact.cli._common`.
+shared reading and preprocessing options: see :mod:`splinecontact.cli._reading`.
 """
 
 from __future__ import annotations
@@ -14,21 +14,22 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from ..errors import OutputWriteError, ParameterError, ProfileReadError
-from ._common import (
+from ._bodies import (
     BODY_SPEC_HELP,
     BodySpec,
+    load_bodies,
+    parse_body_spec,
+    parse_generated_spec,
+    read_body,
+)
+from ._errors import handle_errors, warn
+from ._reading import (
     EStarOpt,
     GStarOpt,
     Mu0Opt,
     OverwriteOpt,
     ProfileReading,
     X0Opt,
-    handle_errors,
-    load_bodies,
-    parse_body_spec,
-    parse_generated_spec,
-    read_body,
-    warn,
     with_reading_options,
 )
 

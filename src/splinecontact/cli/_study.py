@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import fail, handle_errors
+from ._errors import fail, handle_errors
 
 __all__ = ["register"]
 

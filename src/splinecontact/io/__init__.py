@@ -69,6 +69,7 @@ from ..errors import (
 from ..preprocess import Preprocessing, RawProfile, to_profile
 from ..profile import Profile
 from ..results import jsonable
+from ._dektak import is_dektak, read_dektak
 from ._instruments import (
     AMBIGUOUS_EXTENSIONS,
     INSTRUMENT_EXTENSIONS,
@@ -76,8 +77,9 @@ from ._instruments import (
     read_with_surfacetopography,
 )
 from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_max_points
+from ._lines import has_utf16_bom
 from ._numpy import NumpyFileError, read_npy, read_npz
-from ._text import METADATA_COMMENT, has_utf16_bom, is_dektak, read_dektak, read_table
+from ._text import METADATA_COMMENT, read_table
 from ._units import UNIT_FACTORS, normalize_unit
 from ._x3p import ZIP_ERRORS, DamagedX3PError, read_x3p
 

@@ -1,4 +1,4 @@
-"""Text readers: column tables (x, z[, valid]), one column of heights, Bruker Dektak CSV.
+"""Text tables: column tables (x, z[, valid]) and one column of heights.
 
 A table is a block of header lines (titles, units) followed by rows of numbers separated by
 one delimiter: semicolon, comma, or white space (tabs and spaces). Units come from the column
@@ -15,10 +15,8 @@ the time is linear in the size of the file and the memory bounded by the limit.
 from __future__ import annotations
 
 import array
-import codecs
-import io
 import math
-from collections.abc import Generator, Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,308 +35,32 @@ from ..errors import (
     UnitError,
 )
 from ..preprocess import RawProfile
-from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_points, required_spacing
-from ._units import UNIT_FACTORS, is_unit_word, normalize_unit, strip_bracketed, unit_in_text
+from ._limits import DEFAULT_MAX_POINTS, check_points, required_spacing
+from ._lines import iter_lines
+from ._tokens import (
+    _delimiter_of,
+    _is_comment,
+    _is_data_line,
+    _number,
+    _overflows,
+    _resolution,
+    _split,
+    _split_titles,
+)
+from ._units import UNIT_FACTORS, normalize_unit, strip_bracketed, unit_in_text
 
-__all__ = [
-    "METADATA_COMMENT",
-    "decode_text",
-    "has_utf16_bom",
-    "is_dektak",
-    "iter_lines",
-    "read_dektak",
-    "read_table",
-]
+__all__ = ["METADATA_COMMENT", "read_table"]
 
 #: Comment prefix under which :func:`splinecontact.io.write_profile` stores metadata as JSON.
 METADATA_COMMENT = "# splinecontact-metadata:"
 
-_MISSING = {
-    "",
-    "nan",
-    "-nan",
-    "+nan",
-    "bad",
-    "invalid",
-    "na",
-    "n/a",
-    "-",
-    "--",
-    "*",
-    "none",
-    "null",
-}
-_COMMENT_PREFIXES = ("#", "%", "//", "!")
 _X_NAMES = ("x", "lateral", "position", "distance", "length", "scan position")
 _Z_NAMES = ("z", "y", "height", "profile", "total profile", "raw", "altitude", "h", "normal")
 _VALID_NAMES = ("valid", "validity", "mask", "valid point", "valid points")
 _INVALID_NAMES = ("invalid", "bad")
 _DELIMITER_NAMES = {";": "semicolon", ",": "comma", None: "white space"}
-_INF_WORDS = frozenset({"inf", "infinity"})
 #: Header lines (titles, parameters) accepted before the first row of numbers.
 _MAX_HEADER_LINES = 10_000
-#: Lines searched for the "Scan Data" line of a Dektak export.
-_DEKTAK_SCAN_LINES = 10_000
-
-
-def has_utf16_bom(head: bytes) -> bool:
-    """Whether bytes start with a UTF-16 byte-order mark (little or big endian)."""
-    return head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE))
-
-
-def decode_text(data: bytes) -> str:
-    """Decode text: UTF-16 with a BOM, UTF-8 (with or without BOM), else Windows-1252."""
-    if has_utf16_bom(data):
-        return data.decode("utf-16", errors="replace")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return data.decode("cp1252", errors="replace")
-
-
-def _decode_line(line: str) -> str:
-    """A line read as UTF-8 with surrogate escapes; a line that is not UTF-8 is Windows-1252."""
-    try:
-        line.encode("utf-8")
-    except UnicodeEncodeError:
-        return line.encode("utf-8", "surrogateescape").decode("cp1252", errors="replace")
-    return line
-
-
-def iter_lines(
-    path: Path, *, max_line_chars: int = MAX_LINE_CHARS
-) -> Generator[tuple[int, str], None, None]:
-    """``(line number, text)`` of each line of a text file, read one line at a time.
-
-    UTF-16 (with BOM), UTF-8 (with or without BOM) or, line by line, Windows-1252; ``\\n``,
-    ``\\r\\n`` and ``\\r`` end lines.
-
-    Raises
-    ------
-    FileTooLargeError
-        A line is longer than ``max_line_chars`` characters (checked before it is kept).
-    """
-    with open(path, "rb") as raw:
-        utf16 = has_utf16_bom(raw.read(2))
-        raw.seek(0)
-        text = io.TextIOWrapper(
-            raw,
-            encoding="utf-16" if utf16 else "utf-8-sig",
-            errors="replace" if utf16 else "surrogateescape",
-            newline=None,
-        )
-        number = 0
-        while True:
-            line = text.readline(max_line_chars + 1)
-            if not line:
-                return
-            number += 1
-            if len(line) > max_line_chars and not line.endswith("\n"):
-                raise FileTooLargeError(
-                    f"{path}, line {number}: longer than {max_line_chars:,} characters; not a "
-                    "text table (binary data, or rows without line breaks?)"
-                )
-            yield number, _decode_line(line.rstrip("\r\n"))
-
-
-def _is_comment(stripped: str) -> bool:
-    return stripped.startswith(_COMMENT_PREFIXES)
-
-
-def _is_ascii_digits(text: str) -> bool:
-    return text.isascii() and text.isdigit()
-
-
-def _is_decimal_comma_number(token: str) -> bool:
-    """``-183,90`` or ``1,5e-3``: digits, one decimal comma, digits, optional exponent."""
-    head, sep, tail = token.lstrip("+-").partition(",")
-    if not sep:
-        return False
-    mantissa, e, exponent = tail.lower().partition("e")
-    return (
-        (_is_ascii_digits(head) or head == "")
-        and _is_ascii_digits(mantissa)
-        and (not e or _is_ascii_digits(exponent.lstrip("+-")))
-    )
-
-
-def _delimiter_of(line: str) -> str | None:
-    """Semicolon, else white space if the line has a tab, else comma, else white space.
-
-    A line of white-space separated numbers with decimal commas (``0,0025  -183,90``) is
-    white space separated.
-    """
-    if ";" in line:
-        return ";"
-    if "\t" in line:
-        return None
-    if "," in line:
-        words = line.split()
-        if len(words) >= 2 and all(
-            _is_decimal_comma_number(w) or _plain_float(w, ",") for w in words
-        ):
-            return None
-        return ","
-    return None
-
-
-def _split(line: str, delimiter: str | None) -> list[str]:
-    if delimiter is None:
-        return line.split()
-    parts = [p.strip() for p in line.split(delimiter)]
-    while parts and parts[-1] == "":  # trailing delimiters (Dektak exports end rows with ",,")
-        parts.pop()
-    return parts
-
-
-def _closer(line: str, start: int) -> int:
-    """Index of the first ``]`` or ``)`` at or after ``start``, or -1 (a plain scan)."""
-    for j in range(start, len(line)):
-        if line[j] in "])":
-            return j
-    return -1
-
-
-def _title_words(line: str) -> list[str]:
-    """Words of a white-space title line; ``x [mm]`` and ``z(nm)`` stay one word.
-
-    One left-to-right scan: a bracketed part joins the word right before it; an opening
-    bracket without a closing one after it is dropped. Linear in the length of the line.
-    """
-    last_closer = max(line.rfind("]"), line.rfind(")"))
-    spans: list[list[int]] = []
-    attachable = False
-    i, n = 0, len(line)
-    while i < n:
-        c = line[i]
-        if c.isspace():
-            i += 1
-            continue
-        if c in "[(":
-            j = _closer(line, i + 1) if i < last_closer else -1
-            if j < 0:
-                i += 1
-                attachable = False
-                continue
-            if attachable:
-                spans[-1][1] = j + 1
-            else:
-                spans.append([i, j + 1])
-            attachable = False
-            i = j + 1
-            continue
-        j = i
-        while j < n and not line[j].isspace() and line[j] not in "[(":
-            j += 1
-        spans.append([i, j])
-        attachable = True
-        i = j
-    return [line[a:b] for a, b in spans]
-
-
-def _wide_split(line: str) -> list[str]:
-    """Split on tabs and on runs of two or more spaces (titles that hold single spaces)."""
-    parts: list[str] = []
-    current: list[str] = []
-    spaces = 0
-    for c in line:
-        if c == " ":
-            spaces += 1
-            continue
-        if c == "\t" or spaces >= 2:
-            parts.append("".join(current))
-            current = []
-        elif spaces:
-            current.append(" ")
-        spaces = 0
-        if c != "\t":
-            current.append(c)
-    parts.append("".join(current))
-    return [p.strip() for p in parts if p.strip()]
-
-
-def _ends_with_unit(word: str) -> bool:
-    return word.endswith(("]", ")")) or is_unit_word(word)
-
-
-def _split_titles(line: str, delimiter: str | None, n_columns: int | None = None) -> list[str]:
-    """Split a title line; with white space, keep ``x [mm]``, ``z (nm)`` or ``Height µm`` whole.
-
-    With white space, titles may be separated by tabs or runs of spaces (``Lateral µm  Height
-    microns``), or be words followed by their unit (``Lateral µm Height microns``): the split
-    that gives ``n_columns`` titles is used.
-    """
-    if delimiter is not None:
-        return _split(line, delimiter)
-    words = _title_words(line)
-    if n_columns is None or len(words) == n_columns:
-        return words
-    wide = _wide_split(line)
-    if len(wide) == n_columns:
-        return wide
-    groups: list[str] = []
-    current: list[str] = []
-    for word in words:
-        current.append(word)
-        if _ends_with_unit(word):
-            groups.append(" ".join(current))
-            current = []
-    if current:
-        groups.append(" ".join(current))
-    return groups if len(groups) == n_columns else words
-
-
-def _number(token: str, delimiter: str | None) -> float | None:
-    """Value of a data token; NaN for an undefined marker; None if it is not a number."""
-    if delimiter != "," and "," in token and "." not in token:
-        token = token.replace(",", ".")  # decimal comma
-    try:
-        return float(token)
-    except ValueError:
-        if token.strip().lower() in _MISSING:
-            return float("nan")
-        return None
-
-
-def _overflows(token: str, value: float) -> bool:
-    """A finite number written beyond the float range (``1e400``), as opposed to ``inf``."""
-    return math.isinf(value) and token.strip().lstrip("+-").lower() not in _INF_WORDS
-
-
-def _resolution(token: str) -> float:
-    """One unit of the last printed decimal of a number token (``0.0125`` -> 1e-4)."""
-    text = token.strip().lower().lstrip("+-").replace(",", ".")
-    mantissa, _, exponent = text.partition("e")
-    if len(exponent) > 6:
-        return 0.0
-    try:
-        power = int(exponent) if exponent else 0
-    except ValueError:
-        return 0.0
-    decimals = len(mantissa.split(".", 1)[1]) if "." in mantissa else 0
-    try:
-        return float(10.0 ** (power - decimals))
-    except OverflowError:
-        return 0.0
-
-
-def _is_data_line(tokens: Sequence[str], delimiter: str | None) -> bool:
-    if not tokens:
-        return False
-    values = [_number(t, delimiter) for t in tokens]
-    if any(v is None for v in values):
-        return False
-    return any(_plain_float(t, delimiter) for t in tokens)
-
-
-def _plain_float(token: str, delimiter: str | None) -> bool:
-    if delimiter != "," and "," in token and "." not in token:
-        token = token.replace(",", ".")
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 @dataclass(frozen=True)
@@ -729,72 +451,4 @@ def read_table(
         lines.close()
     return _table_to_raw(
         path, table, fmt="table", unit=unit, height_unit=height_unit, spacing=spacing, line=line
-    )
-
-
-def _is_scan_data(line: str) -> bool:
-    return line.split(",", 1)[0].strip().lower() == "scan data"
-
-
-def is_dektak(path: Path) -> bool:
-    """Whether a text file has the "Scan Data" line of a Bruker Dektak CSV export.
-
-    Only the first lines are searched (the parameter block of an export is short).
-    """
-    lines = iter_lines(path)
-    try:
-        for line_no, line in lines:
-            if _is_scan_data(line):
-                return True
-            if line_no >= _DEKTAK_SCAN_LINES:
-                return False
-    finally:
-        lines.close()
-    return False
-
-
-def read_dektak(
-    path: Path,
-    *,
-    unit: str | None = None,
-    height_unit: str | None = None,
-    max_points: int = DEFAULT_MAX_POINTS,
-) -> RawProfile:
-    """Read a Bruker Dektak CSV export.
-
-    The file has blocks of ``key,value[,unit]`` lines (scan parameters, analytical results),
-    then a line ``Scan Data``, a title line such as ``Lateral um,Total Profile Å`` and rows of
-    comma-separated numbers (trailing empty fields are ignored). The lateral column is ``x``;
-    the first other column is the height. The scan parameters are kept in the metadata under
-    ``instrument_parameters``.
-    """
-    lines = iter_lines(path)
-    try:
-        parameters: dict[str, str] = {}
-        found = False
-        for line_no, line in lines:
-            if _is_scan_data(line):
-                found = True
-                break
-            if line_no >= _DEKTAK_SCAN_LINES:
-                break
-            parts = [p.strip() for p in line.split(",")]
-            parts = [p for p in parts if p]
-            if len(parts) >= 2 and len(parameters) < 200:
-                parameters.setdefault(parts[0][:200], " ".join(parts[1:])[:200])
-        if not found:
-            raise NoDataError(
-                f"{path}: no 'Scan Data' line; not a Dektak CSV export (try format='table')"
-            )
-        table = _parse_table(path, lines, delimiter=",", max_points=max_points)
-    finally:
-        lines.close()
-    return _table_to_raw(
-        path,
-        table,
-        fmt="dektak",
-        unit=unit,
-        height_unit=height_unit,
-        spacing=None,
-        extra={"instrument_parameters": parameters} if parameters else None,
     )
