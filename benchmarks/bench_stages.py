@@ -33,15 +33,23 @@ def _timed(fn: Callable[[], Any]) -> tuple[Any, dict[str, float]]:
 
 
 def one(n_points: int, seed: int) -> dict[str, dict[str, float]]:
-    from splinecontact import fit_spline, weierstrass_mandelbrot_pair
+    from splinecontact import weierstrass_mandelbrot_pair
     from splinecontact.contact import contact_geometry, run_loading
+    from splinecontact.spline import fit_spline_pair
 
     length = 100.0 * n_points / 1_000_000
     times: dict[str, dict[str, float]] = {}
     (lower, upper), times["generate"] = _timed(
-        lambda: weierstrass_mandelbrot_pair(1.5, seed=seed, n_points=n_points, length=length)
+        lambda: weierstrass_mandelbrot_pair(
+            1.5,
+            seed=seed,
+            n_points=n_points,
+            length=length,
+            max_points=max(n_points, 20_000_000),  # above the default ceilings at 10⁸ points
+            max_work=max(n_points * 420, 10_000_000_000),
+        )
     )
-    fits, times["spline"] = _timed(lambda: (fit_spline(lower), fit_spline(upper)))
+    fits, times["spline"] = _timed(lambda: fit_spline_pair(lower, upper))
     geometry, times["geometry"] = _timed(
         lambda: contact_geometry(
             lower,

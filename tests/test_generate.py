@@ -146,3 +146,31 @@ def test_heights_have_zero_mean_and_target_ra_at_any_length(n_points: int) -> No
     assert abs(p.ra - 0.005) <= 1e-12 * 0.005
     reference = _direct_sum(1.5, p.x, 9)
     assert np.max(np.abs(p.z - reference)) < 1e-9 * 0.005
+
+
+def test_pair_on_two_threads_is_bit_identical_to_one_after_the_other(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # above the threshold the two sums run on two threads; each profile depends only on its own
+    # child seed, so the result equals the single calls and the sequential pair bit for bit
+    from splinecontact import generate
+
+    n = generate._PAIR_THREAD_MIN_POINTS + 3
+    lower, upper = weierstrass_mandelbrot_pair(1.4, seed=11, n_points=n, length=3.0)
+    assert lower.x is upper.x and not lower.x.flags.writeable
+    for index, threaded in enumerate((lower, upper)):
+        alone = weierstrass_mandelbrot(
+            1.4, n_points=n, length=3.0, seed=np.random.SeedSequence(11, spawn_key=(index,))
+        )
+        assert np.array_equal(alone.z, threaded.z) and np.array_equal(alone.x, threaded.x)
+        assert alone.metadata == threaded.metadata
+    monkeypatch.setattr(generate, "_PAIR_THREAD_MIN_POINTS", 10**12)
+    seq_lower, seq_upper = weierstrass_mandelbrot_pair(1.4, seed=11, n_points=n, length=3.0)
+    assert np.array_equal(seq_lower.z, lower.z) and np.array_equal(seq_upper.z, upper.z)
+
+
+def test_pair_refuses_unknown_and_bad_arguments_like_single_calls() -> None:
+    with pytest.raises(TypeError):
+        weierstrass_mandelbrot_pair(1.5, seed=1, n_point=1000)  # type: ignore[call-arg]
+    with pytest.raises(ParameterError, match="n_points"):
+        weierstrass_mandelbrot_pair(1.5, seed=1, n_points=3)

@@ -18,7 +18,18 @@ ROOT = Path(splinecontact.__file__).parent
 
 #: Layers, bottom first: the top-level module or package names of ``splinecontact``.
 LAYERS: list[set[str]] = [
-    {"_version", "errors", "_checks", "parameters", "schema", "outputs", "results"},
+    {
+        "_version",
+        "errors",
+        "_checks",
+        "_memory",
+        "_fft",
+        "_roughness",
+        "parameters",
+        "schema",
+        "outputs",
+        "results",
+    },
     {"profile"},
     {"preprocess", "spectra", "diagnostics"},
     {"generate", "io"},

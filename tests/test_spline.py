@@ -63,3 +63,22 @@ def test_smoothing_length_is_where_a_sinusoid_keeps_half_its_amplitude() -> None
     middle = slice(50_000, 150_000)
     amplitude = np.max(np.abs(fit.f[middle]))
     assert amplitude == pytest.approx(0.5, abs=0.01)
+
+
+def test_pair_of_fits_on_two_threads_equals_two_calls(monkeypatch: pytest.MonkeyPatch) -> None:
+    # above the threshold the two fits run on two threads; each depends only on its profile
+    from splinecontact import spline, weierstrass_mandelbrot_pair
+    from splinecontact.spline import fit_spline_pair
+
+    n = spline._PAIR_THREAD_MIN_POINTS + 5
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=3, n_points=n, length=n * 1e-4)
+    fit_l, fit_u = fit_spline_pair(lower, upper, alpha=2.0, x0=1.0)
+    assert fit_u is not None
+    for fit, body in ((fit_l, lower), (fit_u, upper)):
+        alone = fit_spline(body)
+        for name in ("f", "slope", "second_derivative"):
+            assert np.array_equal(getattr(fit, name), getattr(alone, name))
+    only, none = fit_spline_pair(lower, None)
+    assert none is None and np.array_equal(only.f, fit_l.f)
+    with pytest.raises(ParameterError, match="alpha"):
+        fit_spline_pair(lower, upper, alpha=-1.0)

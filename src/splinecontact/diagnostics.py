@@ -133,17 +133,23 @@ def form_diagnostic(profile: Profile, *, name: str = "profile") -> Diagnostic | 
         return None
     t = (x - x[0]) / span * 2.0 - 1.0
     zc = z - z.mean()
-    total = float(np.dot(zc, zc))
+    total = float(np.multiply(zc, zc).sum())
     if not np.isfinite(total) or total <= 0.0:
         return None
     shares = {}
     trends = {}
+    # least squares by the normal equations of the basis (t^degree … t, 1), with element-wise
+    # sums rather than BLAS/LAPACK calls (a threaded BLAS costs ~3× the CPU on a busy machine)
+    powers = [np.ones_like(t), t, t * t]
+    moments = [float(np.multiply(a, b).sum()) for a in powers for b in powers]
+    projections = [float(np.multiply(a, zc).sum()) for a in powers]
     for degree in (1, 2):
-        basis = np.vander(t, degree + 1)
-        coef, *_ = np.linalg.lstsq(basis, zc, rcond=None)
-        trend = basis @ coef
+        k = degree + 1
+        gram = np.array([[moments[3 * i + j] for j in range(k)] for i in range(k)])
+        coef = np.linalg.solve(gram, np.array(projections[:k]))
+        trend = sum(c * a for c, a in zip(coef, powers, strict=False))
         resid = zc - trend
-        shares[degree] = 1.0 - float(np.dot(resid, resid)) / total
+        shares[degree] = 1.0 - float(np.multiply(resid, resid).sum()) / total
         trends[degree] = float(np.ptp(trend))
     if shares[2] < FORM_VARIANCE_LIMIT:
         return None

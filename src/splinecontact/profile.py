@@ -254,14 +254,36 @@ class Profile:
 # --- roughness parameters: the one place they are computed ------------------------------------
 
 
+#: Arrays of at least this many values are summed by the compiled one-pass kernels of
+#: ``splinecontact._roughness`` (importing numba); smaller ones by numpy, as cheap there. The
+#: choice depends on the size only, so a quantity is always computed the same way.
+_COMPILED_MIN_POINTS = 65_536
+
+
+def _float_heights(z: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.ascontiguousarray(z, dtype=np.float64)
+
+
 def roughness_average(z: NDArray[np.float64]) -> float:
     """Arithmetic mean roughness R_A = mean |z − mean(z)| [µm] of heights ``z`` [µm]."""
-    return float(np.mean(np.abs(z - z.mean())))
+    z = _float_heights(z)
+    if z.size < _COMPILED_MIN_POINTS:
+        return float(np.mean(np.abs(z - z.mean())))
+    from . import _roughness
+
+    mean = _roughness.total(z) / z.size
+    return float(_roughness.deviation_sums(z, mean)[0] / z.size)
 
 
 def roughness_rms(z: NDArray[np.float64]) -> float:
     """Root-mean-square roughness R_q = √mean (z − mean(z))² [µm] of heights ``z`` [µm]."""
-    return float(np.sqrt(np.mean((z - z.mean()) ** 2)))
+    z = _float_heights(z)
+    if z.size < _COMPILED_MIN_POINTS:
+        return float(np.sqrt(np.mean((z - z.mean()) ** 2)))
+    from . import _roughness
+
+    mean = _roughness.total(z) / z.size
+    return float(np.sqrt(_roughness.deviation_sums(z, mean)[1] / z.size))
 
 
 def rms_slope(z: NDArray[np.float64], dx: float) -> float:
@@ -269,12 +291,22 @@ def rms_slope(z: NDArray[np.float64], dx: float) -> float:
 
     Grid differences, paper eq. 15: R_Sq = √(Σ_i ((z_i − z_{i−1})/dx)² / (n − 1)).
     """
-    return float(np.sqrt(np.mean((np.diff(z) / dx) ** 2)))
+    z = _float_heights(z)
+    if z.size < _COMPILED_MIN_POINTS:
+        return float(np.sqrt(np.mean((np.diff(z) / dx) ** 2)))
+    from . import _roughness
+
+    return float(np.sqrt(_roughness.difference_square_sum(z, z, False, float(dx)) / (z.size - 1)))
 
 
 def slope_rms(slope: NDArray[np.float64]) -> float:
     """Root-mean-square of given slopes [1] (e.g. a spline's f′ at the grid points)."""
-    return float(np.sqrt(np.mean(slope * slope)))
+    slope = _float_heights(slope)
+    if slope.size < _COMPILED_MIN_POINTS:
+        return float(np.sqrt(np.mean(slope * slope)))
+    from . import _roughness
+
+    return float(np.sqrt(_roughness.square_sum(slope, slope, False) / slope.size))
 
 
 def surface_statistics(
@@ -309,9 +341,21 @@ def surface_statistics(
     else:
         assert spline_slope_upper is not None
         ra_u, rq_u, rsq_u = upper.ra, upper.rq, upper.rsq
-        rsq_gap = rms_slope(lower.z + upper.z, lower.dx)
         rsq_upper_spline = slope_rms(spline_slope_upper)
-        rsq_gap_spline = slope_rms(spline_slope_lower + spline_slope_upper)
+        if lower.n_points < _COMPILED_MIN_POINTS:
+            rsq_gap = rms_slope(lower.z + upper.z, lower.dx)
+            rsq_gap_spline = slope_rms(spline_slope_lower + spline_slope_upper)
+        else:
+            # the sums of z^u + z^l and f′^u + f′^l without forming them (the same values as
+            # rms_slope / slope_rms of the sum arrays)
+            from . import _roughness
+
+            z_l, z_u = _float_heights(lower.z), _float_heights(upper.z)
+            gap = _roughness.difference_square_sum(z_l, z_u, True, float(lower.dx))
+            rsq_gap = float(np.sqrt(gap / (z_l.size - 1)))
+            s_l = _float_heights(spline_slope_lower)
+            s_u = _float_heights(spline_slope_upper)
+            rsq_gap_spline = float(np.sqrt(_roughness.square_sum(s_l, s_u, True) / s_l.size))
     return {
         "ra_lower": lower.ra,
         "rq_lower": lower.rq,

@@ -18,6 +18,7 @@ symmetric positive-definite pentadiagonal Toeplitz system ``(R + λ' QᵀQ) γ =
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numba
@@ -25,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._checks import check_real
+from ._memory import empty
 from .errors import ParameterError
 from .profile import Profile
 
@@ -32,7 +34,7 @@ from .profile import Profile
 #: straight line to working precision and the banded solve would overflow.
 _MAX_GRID_LAMBDA = 1e250
 
-__all__ = ["SplineFit", "fit_spline", "smoothing_parameter"]
+__all__ = ["SplineFit", "fit_spline", "fit_spline_pair", "smoothing_parameter"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,15 +127,20 @@ def smoothing_parameter(dx: float, *, alpha: float = 2.0, x0: float = 1.0) -> fl
 
 _ULP2 = 2.0 * 2.220446049250313e-16
 
+#: Pairs of profiles of at least this many points are fitted two at a time (one thread each)
+#: by :func:`fit_spline_pair`; below it a thread costs more than it saves.
+_PAIR_THREAD_MIN_POINTS = 32_768
+
 
 @numba.njit(cache=True, nogil=True)
 def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
     grown = np.empty(capacity)
-    grown[: values.size] = values
+    for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
+        grown[i] = values[i]
     return grown
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath={"contract"})
 def _reinsch_uniform(
     z: NDArray[np.float64],
     lam_grid: float,
@@ -149,7 +156,10 @@ def _reinsch_uniform(
     f″ are divided by ``dx`` and ``dx2`` = dx² on the way out.
 
     Solves ``(R + λ' QᵀQ) γ = Qᵀ z`` by an LDLᵀ factorisation of the pentadiagonal Toeplitz
-    matrix (diagonals a, b, c) and forms ``f = z − λ' Q γ``.
+    matrix (diagonals a, b, c) and forms ``f = z − λ' Q γ``. The two substitutions are the only
+    sequential work: each carries its last two values in registers and takes the older term
+    first, so one step of the chain is one fused multiply-add ("contract"); f, f′ and f″ then
+    come from γ in vector loops.
     """
     n = z.size
     m = n - 2
@@ -190,52 +200,72 @@ def _reinsch_uniform(
             l2[i] = 0.0
             l1[i] = b / d[0]
             d[i] = a - l1[i] * l1[i] * d[0]
-    # Forward substitution: y_i is kept in second[i + 1].
+    # Forward substitution: y_i is kept in second[i + 1]. The term of the older value is taken
+    # first, so the chain from one y to the next is a single multiply-add.
     second[0] = 0.0
     second[n - 1] = 0.0
-    for i in range(m):
+    head = min(m, last + 1)
+    for i in range(head):
         rhs = z[i] - 2.0 * z[i + 1] + z[i + 2]
-        k = min(i, last)
         if i >= 2:
-            second[i + 1] = rhs - l1[k] * second[i] - l2[k] * second[i - 1]
+            second[i + 1] = (rhs - l2[i] * second[i - 1]) - l1[i] * second[i]
         elif i == 1:
-            second[i + 1] = rhs - l1[k] * second[i]
+            second[i + 1] = rhs - l1[i] * second[i]
         else:
             second[i + 1] = rhs
-    # One backward pass: γ_{i+1} (grid units) by back substitution, and, as soon as the three
-    # γ around a knot are known, f there and f′ one knot further right; a γ no longer needed is
-    # scaled to 1/µm² in place. Same arithmetic, in the same order, as the separate passes.
-    for i in range(m - 1, -1, -1):
-        value = second[i + 1] / d[min(i, last)]
+    c1 = l1[last]
+    c2 = l2[last]
+    if head < m:  # converged rows (i > last ≥ 3): constant factors, the chain in registers
+        older = second[head - 1]
+        newer = second[head]
+        for i in range(head, m):
+            rhs = z[i] - 2.0 * z[i + 1] + z[i + 2]
+            value = (rhs - c2 * older) - c1 * newer
+            second[i + 1] = value
+            older = newer
+            newer = value
+    # Back substitution: γ_{i+1} (grid units) in place of y_i, the same way round.
+    inverse = 1.0 / d[last]
+    for i in range(m - 1, max(m - 3, -1), -1):  # the last two rows
+        k = min(i, last)
+        value = second[i + 1] / d[k]
         if i + 1 < m:
             value -= l1[min(i + 1, last)] * second[i + 2]
-        if i + 2 < m:
-            value -= l2[min(i + 2, last)] * second[i + 3]
         second[i + 1] = value
-        if i == m - 1:
-            f[n - 1] = z[n - 1] - lam_grid * value
-        else:
-            j = i + 2  # knot whose three γ (j − 1, j, j + 1) are now known
-            g_left = value
-            g_mid = second[j]
-            g_right = second[j + 1]
-            f[j] = z[j] - lam_grid * (g_left - 2.0 * g_mid + g_right)
-            if j == n - 2:
-                slope[n - 1] = (f[n - 1] - f[n - 2]) + (g_mid + 2.0 * g_right) / 6.0
-                slope[n - 1] /= dx
-            slope[j] = ((f[j + 1] - f[j]) - (2.0 * g_mid + g_right) / 6.0) / dx
-            second[j + 1] = g_right / dx2
-    # the left end: γ_0 = 0
-    if m >= 1:
-        g1 = second[1]
-        g2 = second[2]
-        if n - 1 >= 3:
-            f[1] = z[1] - lam_grid * (0.0 - 2.0 * g1 + g2)
-            slope[1] = ((f[2] - f[1]) - (2.0 * g1 + g2) / 6.0) / dx
-            second[2] = g2 / dx2
-        f[0] = z[0] - lam_grid * g1
-        slope[0] = ((f[1] - f[0]) - (2.0 * 0.0 + g1) / 6.0) / dx
-        second[1] = g1 / dx2
+    if m - 3 >= last:  # converged rows: constant factors, the chain in registers
+        farther = second[m]
+        nearer = second[m - 1]
+        for i in range(m - 3, last - 1, -1):
+            value = (second[i + 1] * inverse - c2 * farther) - c1 * nearer
+            second[i + 1] = value
+            farther = nearer
+            nearer = value
+    for i in range(min(m - 3, last - 1), -1, -1):
+        value = second[i + 1] / d[i]
+        second[i + 1] = (value - l2[min(i + 2, last)] * second[i + 3]) - l1[
+            min(i + 1, last)
+        ] * second[i + 2]
+    # f = z − λ' Q γ, then f′ and f″ in µm units (γ_0 = γ_{n−1} = 0): independent per knot, so
+    # these are vector loops.
+    f[0] = z[0] - lam_grid * second[1]
+    f[n - 1] = z[n - 1] - lam_grid * second[n - 2]
+    # slices, so that the loop indices are known non-negative and the loops vectorise
+    left = second[: n - 2]
+    mid = second[1 : n - 1]
+    right = second[2:]
+    inner_z = z[1 : n - 1]
+    inner_f = f[1 : n - 1]
+    for j in range(n - 2):
+        inner_f[j] = inner_z[j] - lam_grid * ((left[j] - 2.0 * mid[j]) + right[j])
+    here = f[: n - 1]
+    after = f[1:]
+    g_here = second[: n - 1]
+    g_after = second[1:]
+    for j in range(n - 1):
+        slope[j] = ((after[j] - here[j]) - (2.0 * g_here[j] + g_after[j]) / 6.0) / dx
+    slope[n - 1] = ((f[n - 1] - f[n - 2]) + (second[n - 2] + 2.0 * 0.0) / 6.0) / dx
+    for j in range(n):
+        second[j] = second[j] / dx2
 
 
 def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> SplineFit:
@@ -291,9 +321,8 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
             f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
             "line; use x0 of the order of 1 µm and alpha near 2"
         )
-    # outputs allocated by numpy, which asks the kernel for huge pages on large arrays (fewer
-    # page faults than the kernel's own allocations at 10⁷ points)
-    f, slope, second = (np.empty(profile.z.size) for _ in range(3))
+    # outputs allocated outside numpy's huge-page advice (see splinecontact._memory)
+    f, slope, second = (empty(profile.z.size) for _ in range(3))
     _reinsch_uniform(profile.z, lam_grid, dx, dx**2, f, slope, second)
     for array in (f, slope, second):
         array.setflags(write=False)
@@ -306,3 +335,37 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
         alpha=float(alpha),
         x0=float(x0),
     )
+
+
+def fit_spline_pair(
+    lower: Profile, upper: Profile | None, *, alpha: float = 2.0, x0: float = 1.0
+) -> tuple[SplineFit, SplineFit | None]:
+    """The fits of eqs. 2–3 of both bodies of a contact, as two :func:`fit_spline` calls give.
+
+    Large profiles are fitted on two threads at once (the kernel releases the GIL); each fit
+    depends only on its own profile, so the results are bit-identical to fitting one after the
+    other, and an error of the lower profile's fit is the one raised.
+
+    Parameters
+    ----------
+    lower : Profile
+        Lower body heights [µm].
+    upper : Profile or None
+        Upper body heights [µm] (own frame), or None for a flat (no fit).
+    alpha : float, optional
+        Tightness exponent α [1] of eq. 3.
+    x0 : float, optional
+        Unit length x0 [µm] of eqs. 2–3.
+
+    Returns
+    -------
+    (SplineFit, SplineFit or None)
+    """
+    if upper is None:
+        return fit_spline(lower, alpha=alpha, x0=x0), None
+    if not isinstance(lower, Profile) or lower.n_points < _PAIR_THREAD_MIN_POINTS:
+        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+        return fit_l, fit_spline(upper, alpha=alpha, x0=x0)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        futures = [pool.submit(fit_spline, body, alpha=alpha, x0=x0) for body in (lower, upper)]
+        return futures[0].result(), futures[1].result()

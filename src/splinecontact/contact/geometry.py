@@ -41,7 +41,7 @@ from .._checks import LENGTH_LIMIT, MAGNITUDE_LIMIT, check_real
 from ..errors import GridMismatchError, ParameterError
 from ..profile import UNIFORM_GRID_RTOL, Profile
 from ..spheres import own_frame_geometry
-from ..spline import SplineFit, fit_spline
+from ..spline import SplineFit, fit_spline_pair
 
 __all__ = [
     "ContactGeometry",
@@ -103,34 +103,73 @@ class ContactGeometry:
     mean_gap0: float
 
 
+#: Points per chunk of :func:`_place_bodies`' candidate search (a chunk without candidates is
+#: one vector loop).
+_PLACE_CHUNK = 256
+
+
 @numba.njit(cache=True, nogil=True)
+def _grown(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
+    out = np.empty(capacity)
+    for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
+        out[i] = values[i]
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _grown_int(values: NDArray[np.int64], capacity: int) -> NDArray[np.int64]:  # pragma: no cover
+    out = np.empty(capacity, dtype=np.int64)
+    for i in range(values.size):
+        out[i] = values[i]
+    return out
+
+
+@numba.njit(cache=True, nogil=True, fastmath={"reassoc", "nsz"})
 def _place_bodies(
     f_l: NDArray[np.float64], f_u: NDArray[np.float64], flat: bool, final: float
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], float]:  # pragma: no cover - compiled
-    """Gap at δ_N = 0 (minimum exactly 0), indices with gap ≤ final, and the mean gap."""
+    """Gap at δ_N = 0 (minimum exactly 0) at the indices with gap ≤ final, those indices, and
+    the mean gap over all points.
+
+    The gap of the other points is never needed, so no array of n gaps is made: one pass finds
+    the highest point, a second the mean gap and the candidates (chunks without one are a
+    vector loop).
+    """
     n = f_l.size
     offset = -np.inf
     for i in range(n):
         total = f_l[i] if flat else f_u[i] + f_l[i]
         if total > offset:
             offset = total
-    gap0 = np.empty(n)
-    count = 0
+    zeros = np.zeros(_PLACE_CHUNK)  # the flat's heights (x + 0.0 is x for every x ≠ −0.0)
     gap_sum = 0.0
-    for i in range(n):
-        total = f_l[i] if flat else f_u[i] + f_l[i]
-        g = offset - total
-        gap0[i] = g
-        gap_sum += g
-        if g <= final:
-            count += 1
-    candidates = np.empty(count, dtype=np.int64)
-    k = 0
-    for i in range(n):
-        if gap0[i] <= final:
-            candidates[k] = i
-            k += 1
-    return gap0, candidates, gap_sum / n
+    count = 0
+    capacity = 1024
+    gaps = np.empty(capacity)
+    candidates = np.empty(capacity, dtype=np.int64)
+    for start in range(0, n, _PLACE_CHUNK):
+        lower = f_l[start : start + _PLACE_CHUNK]
+        upper = zeros[: lower.size] if flat else f_u[start : start + _PLACE_CHUNK]
+        block_sum = 0.0
+        found = 0
+        for i in range(lower.size):
+            g = offset - (upper[i] + lower[i])
+            block_sum += g
+            found += 1 if g <= final else 0
+        gap_sum += block_sum
+        if found == 0:
+            continue
+        if count + found > capacity:
+            capacity = max(2 * capacity, count + found)
+            gaps = _grown(gaps, capacity)
+            candidates = _grown_int(candidates, capacity)
+        for i in range(lower.size):
+            g = offset - (upper[i] + lower[i])
+            if g <= final:
+                gaps[count] = g
+                candidates[count] = start + i
+                count += 1
+    return _grown(gaps[:count], count), _grown_int(candidates[:count], count), gap_sum / n
 
 
 def check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
@@ -212,8 +251,7 @@ def contact_geometry(
                 "both bodies must share one grid (resample one of them)"
             )
     if fits is None:
-        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-        fit_u = None if flat else fit_spline(upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
+        fit_l, fit_u = fit_spline_pair(lower, None if flat else upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
         fit_l, fit_u = fits
     r_min = 0.5 * lower.dx
@@ -239,10 +277,10 @@ def contact_geometry(
     # closes to within the law's reach by the last step are ever visited (detection
     # z^u ≤ z^l + reach).
     reach = check_positive("reach", reach, " µm", allow_zero=True)
-    gap0, candidates, mean_gap0 = _place_bodies(
+    gap_c, candidates, mean_gap0 = _place_bodies(
         f_l, f_l if fit_u is None else fit_u.f, fit_u is None, float(displacement[-1]) + reach
     )
-    closing = np.searchsorted(displacement, gap0[candidates] - reach, side="left")
+    closing = np.searchsorted(displacement, gap_c - reach, side="left")
     order_in = np.argsort(closing, kind="stable")
     order = candidates[order_in]
     counts = np.bincount(closing[order_in], minlength=steps + 1)
@@ -261,7 +299,7 @@ def contact_geometry(
     geometry = ContactGeometry(
         point=order.astype(np.int64),
         x=lower.x[order],
-        gap0=gap0[order],
+        gap0=gap_c[order_in],
         height_lower=f_l[order],
         curvature_lower=kappa_l,
         curvature_upper=kappa_u,

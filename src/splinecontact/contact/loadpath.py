@@ -30,7 +30,7 @@ from ..errors import ForceControlError, LoadPathError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spheres import own_frame_geometry
-from ..spline import SplineFit, fit_spline
+from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
@@ -315,8 +315,9 @@ def run_path(
     segments = validate_path(path)
     law = Hertz() if law is None else check_law(law)
     if fits is None:
-        fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-        fit_u = None if isinstance(upper, str) else fit_spline(upper, alpha=alpha, x0=x0)
+        fit_l, fit_u = fit_spline_pair(
+            lower, None if isinstance(upper, str) else upper, alpha=alpha, x0=x0
+        )
     else:
         fit_l, fit_u = fits
     geo = _prepare(lower, fit_l, fit_u)

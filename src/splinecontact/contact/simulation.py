@@ -12,7 +12,7 @@ from .._checks import check_integer
 from ..errors import ParameterError
 from ..profile import Profile, surface_statistics
 from ..results import ContactRecord, SimulationResult
-from ..spline import SplineFit, fit_spline
+from ..spline import SplineFit, fit_spline_pair
 from .geometry import check_bodies, check_positive, contact_geometry
 from .kernel import run_loading
 from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
@@ -267,8 +267,7 @@ def spline_fits(
     lower: Profile, upper: Profile | Literal["flat"], *, alpha: float, x0: float
 ) -> tuple[SplineFit, SplineFit | None]:
     """Spline fits (eqs. 2–3) of the lower body and of the upper one (``None`` for a flat)."""
-    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
-    return fit_l, (fit_spline(upper, alpha=alpha, x0=x0) if isinstance(upper, Profile) else None)
+    return fit_spline_pair(lower, upper if isinstance(upper, Profile) else None, alpha=alpha, x0=x0)
 
 
 def build_result(
