@@ -106,6 +106,14 @@ def _scratch(capacity: int) -> _k.Scratch:
         slip=np.empty(capacity, dtype=np.bool_),
         src=np.empty(capacity, dtype=np.int64),
         width=np.empty(capacity),
+        cl_i=np.empty(capacity, dtype=np.int64),
+        cl_g=np.empty(capacity),
+        cl_s1=np.empty(capacity),
+        cl_s2=np.empty(capacity),
+        cl_kl=np.empty(capacity),
+        cl_nx=np.empty(capacity),
+        cl_nz=np.empty(capacity),
+        cl_keep=np.empty(capacity, dtype=np.bool_),
     )
 
 

@@ -103,6 +103,15 @@ class Scratch(NamedTuple):
     slip: NDArray[np.bool_]  # slipping
     src: NDArray[np.int64]  # previous cell continued (−1: new contact)
     width: NDArray[np.float64]  # contact half-width [µm] (share of A_S)
+    # the closed points of the configuration (gap ≤ reach), packed for the acceptance filter
+    cl_i: NDArray[np.int64]  # lower grid index
+    cl_g: NDArray[np.float64]  # gap [µm]
+    cl_s1: NDArray[np.float64]  # upper slope S′ [1]
+    cl_s2: NDArray[np.float64]  # upper S″ [1/µm]
+    cl_kl: NDArray[np.float64]  # lower curvature [1/µm]
+    cl_nx: NDArray[np.float64]  # lower normal [1]
+    cl_nz: NDArray[np.float64]
+    cl_keep: NDArray[np.bool_]  # may pass Table 1, eq. 9 and δ > −reach (conservative)
 
 
 class StepSums(NamedTuple):
@@ -257,34 +266,111 @@ def candidate_bounds(
     return count
 
 
-@numba.njit(cache=True, nogil=True)
-def _upper_surface(
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_height(
     surf: Surfaces, i: int, shift: float
-) -> tuple[bool, float, float, float]:  # pragma: no cover - compiled
-    """(inside, h^u, S′/dx, S″/dx²) of the shifted upper spline at lower point i (module doc)."""
+) -> tuple[bool, float, int, float]:  # pragma: no cover - compiled
+    """(inside, h^u, k, t) of the shifted upper spline at lower point i (module doc)."""
     if surf.flat:
-        return True, 0.0, 0.0, 0.0
+        return True, 0.0, 0, 0.0
     f_u = surf.f_u
     n_up = f_u.size
     xi = i - shift
     if xi < 0.0 or xi > n_up - 1:
-        return False, 0.0, 0.0, 0.0
+        return False, 0.0, 0, 0.0
     k = math.floor(xi)
     if k > n_up - 2:
         k = n_up - 2
     t = xi - k
+    if t == 0.0:  # on a knot: the fitted value itself
+        return True, f_u[k], k, t
+    w = 1.0 - t
+    h_u = w * f_u[k] + t * f_u[k + 1] + (
+        surf.gamma_u[k] * (w * w * w - w) + surf.gamma_u[k + 1] * (t * t * t - t)
+    ) / 6.0
+    return True, h_u, k, t
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_slopes(
+    surf: Surfaces, k: int, t: float
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """(S′/dx, S″/dx²) of the upper spline at knot interval k, fraction t (module doc)."""
+    if surf.flat:
+        return 0.0, 0.0
     if t == 0.0:  # on a knot: the fitted values themselves
-        return True, f_u[k], surf.slope_u[k], surf.curv_u[k]
+        return surf.slope_u[k], surf.curv_u[k]
+    f_u = surf.f_u
     w = 1.0 - t
     g0 = surf.gamma_u[k]
     g1 = surf.gamma_u[k + 1]
-    h_u = w * f_u[k] + t * f_u[k + 1] + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
     inv_dx = 1.0 / surf.dx
     s1 = (
         f_u[k + 1] - f_u[k] + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
     ) * inv_dx
     s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
-    return True, h_u, s1, s2
+    return s1, s2
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_sphere(
+    s1: float, s2: float, kappa_max: float
+) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """(κ^u clamped to ±kappa_max, m_x, m_z) of the upper surface of slope s1 and f″ s2."""
+    norm_u = math.sqrt(1.0 + s1 * s1)
+    k_u = -s2 / (norm_u * norm_u * norm_u)
+    if k_u > kappa_max:
+        k_u = kappa_max
+    elif k_u < -kappa_max:
+        k_u = -kappa_max
+    return k_u, s1 / norm_u, 1.0 / norm_u
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _filter_closed(
+    n_cl: int, kappa_max: float, half_dx: float, min_delta: float, scratch: Scratch
+) -> None:  # pragma: no cover - compiled
+    """Flag the closed points that may pass Table 1, δ > min_delta and eq. 9 (``cl_keep``).
+
+    The arithmetic of :func:`.geometry.sphere_contact` on the packed closed points, written
+    without branches so that it runs on vector units; the tests are widened (eq. 9 by a relative
+    10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale) so that no point the exact test accepts is
+    dropped, whatever the rounding. The kept points are decided exactly afterwards.
+    """
+    g_a = scratch.cl_g
+    s1_a = scratch.cl_s1
+    s2_a = scratch.cl_s2
+    kl_a = scratch.cl_kl
+    nx_a = scratch.cl_nx
+    nz_a = scratch.cl_nz
+    keep = scratch.cl_keep
+    lim = 2.0 * half_dx * (1.0 + 1e-6)
+    for q in range(n_cl):
+        g = g_a[q]
+        s1 = s1_a[q]
+        k_l = kl_a[q]
+        n_x = nx_a[q]
+        n_z = nz_a[q]
+        norm_u = math.sqrt(1.0 + s1 * s1)
+        k_u = min(max(-s2_a[q] / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
+        m_x = s1 / norm_u
+        m_z = 1.0 / norm_u
+        k_sum = k_l + k_u
+        k_prod = k_u * k_l
+        y_x = k_l * m_x + k_u * n_x
+        y_z = k_prod * g + k_l * m_z + k_u * n_z
+        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+        dmx = m_x - n_x
+        dmz = m_z - n_z
+        num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
+        delta = num / (y_norm + k_sum)
+        off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
+        keep[q] = (
+            (k_sum > 0.0)
+            & (y_norm > 0.0)
+            & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
+            & (abs(off) <= lim * y_norm)
+        )
 
 
 @numba.njit(cache=True, nogil=True)
@@ -381,7 +467,7 @@ def path_step(
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    n_c = 0
+    # 1. The gap of every candidate; the closed points (gap ≤ reach) are packed.
     n_closed = 0
     for j in range(cand.size):
         if bound[j] < threshold:
@@ -390,24 +476,36 @@ def path_step(
             continue
         i = cand[j]
         # The height first: the slope and curvature only where the gap has closed.
-        inside, h_u, s1, s2 = _upper_surface(surf, i, shift)
+        inside, h_u, k, t = _upper_height(surf, i, shift)
         if not inside:
             continue
         g = (placement - (h_u + f_l[i])) - d
         if g > reach:
             continue
+        s1, s2 = _upper_slopes(surf, k, t)
+        scratch.cl_i[n_closed] = i
+        scratch.cl_g[n_closed] = g
+        scratch.cl_s1[n_closed] = s1
+        scratch.cl_s2[n_closed] = s2
+        scratch.cl_kl[n_closed] = surf.kappa_l[i]
+        scratch.cl_nx[n_closed] = surf.nl_x[i]
+        scratch.cl_nz[n_closed] = surf.nl_z[i]
         n_closed += 1
-        k_l = surf.kappa_l[i]
-        norm_u = math.sqrt(1.0 + s1 * s1)
-        k_u = -s2 / (norm_u * norm_u * norm_u)
-        if k_u > kappa_max:
-            k_u = kappa_max
-        elif k_u < -kappa_max:
-            k_u = -kappa_max
-        m_z = 1.0 / norm_u
-        n_z = surf.nl_z[i]
+    # 2. Most closed points fail eq. 9: a branch-free conservative filter first.
+    _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
+    # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
+    n_c = 0
+    for q in range(n_closed):
+        if not scratch.cl_keep[q]:
+            continue
+        i = scratch.cl_i[q]
+        g = scratch.cl_g[q]
+        s1 = scratch.cl_s1[q]
+        k_l = scratch.cl_kl[q]
+        k_u, m_x, m_z = _upper_sphere(s1, scratch.cl_s2[q], kappa_max)
+        n_z = scratch.cl_nz[q]
         accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
-            g, k_l, k_u, s1 / norm_u, m_z, surf.nl_x[i], n_z, half_dx, -reach
+            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, half_dx, -reach
         )
         if not accepted:
             continue
