@@ -285,9 +285,11 @@ def _upper_height(
     if t == 0.0:  # on a knot: the fitted value itself
         return True, f_u[k], k, t
     w = 1.0 - t
-    h_u = w * f_u[k] + t * f_u[k + 1] + (
-        surf.gamma_u[k] * (w * w * w - w) + surf.gamma_u[k + 1] * (t * t * t - t)
-    ) / 6.0
+    h_u = (
+        w * f_u[k]
+        + t * f_u[k + 1]
+        + (surf.gamma_u[k] * (w * w * w - w) + surf.gamma_u[k + 1] * (t * t * t - t)) / 6.0
+    )
     return True, h_u, k, t
 
 
@@ -448,6 +450,8 @@ def path_step(
     migrate_cells: int,
     springs: Springs,
     scratch: Scratch,
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
 ) -> StepSums:  # pragma: no cover - compiled
     """One configuration (u, δ_N) of the upper body; see the module docstring.
 
@@ -455,6 +459,12 @@ def path_step(
     decreasing bound when ``descending``), accepts contacts (Table 1, eq. 9, eq. 10, the law of
     ``material``), migrates the springs (:func:`_migrate`) and applies eqs. 11–13. With
     ``commit`` the new spring and law state replace the old.
+
+    With ``use_fixed`` the contact cells are given: the cells i with ``fixed[i]`` are the ones
+    that may carry a contact (Table 1 and δ > −reach still tested, eq. 9 and the detection
+    gap ≤ reach not), the others carry none. The result is then continuous in δ_N (a contact
+    appears at zero overlap), and for cells that eq. 9 accepts anyway it is bit-identical to the
+    free evaluation.
     """
     f_l = surf.f_l
     n = f_l.size
@@ -480,7 +490,7 @@ def path_step(
         if not inside:
             continue
         g = (placement - (h_u + f_l[i])) - d
-        if g > reach:
+        if g > reach and not (use_fixed and fixed[i]):
             continue
         s1, s2 = _upper_slopes(surf, k, t)
         scratch.cl_i[n_closed] = i
@@ -492,20 +502,25 @@ def path_step(
         scratch.cl_nz[n_closed] = surf.nl_z[i]
         n_closed += 1
     # 2. Most closed points fail eq. 9: a branch-free conservative filter first.
-    _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
+    if not use_fixed:
+        _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
+    cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
     n_c = 0
     for q in range(n_closed):
-        if not scratch.cl_keep[q]:
-            continue
         i = scratch.cl_i[q]
+        if use_fixed:
+            if not fixed[i]:
+                continue
+        elif not scratch.cl_keep[q]:
+            continue
         g = scratch.cl_g[q]
         s1 = scratch.cl_s1[q]
         k_l = scratch.cl_kl[q]
         k_u, m_x, m_z = _upper_sphere(s1, scratch.cl_s2[q], kappa_max)
         n_z = scratch.cl_nz[q]
         accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
-            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, half_dx, -reach
+            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, cell_test, -reach
         )
         if not accepted:
             continue
@@ -583,6 +598,8 @@ def path_step_from_python(
     migrate_cells: int,
     springs: tuple[Any, ...],
     scratch: tuple[Any, ...],
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
 ) -> tuple[Any, ...]:  # pragma: no cover - compiled
     """:func:`path_step` (candidates in grid order) with its records given as plain tuples.
 
@@ -592,7 +609,7 @@ def path_step_from_python(
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch),
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed,
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
@@ -675,7 +692,8 @@ def run_steps(
         dd = d - d_cur
         sums = path_step(
             u, d, du, dd, True, surf, cand, bound, not moving, material,
-            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch,
+            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch, springs.claimed,
+            False,
         )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
