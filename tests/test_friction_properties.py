@@ -14,6 +14,7 @@ from splinecontact.analysis import (
     dilatancy,
     dissipated_energy,
     driver_work,
+    interface_stiffness,
     mindlin_stiffness_ratio,
     normal_stiffness,
     segment_steps,
@@ -244,3 +245,28 @@ def test_friction_study_ensemble_on_a_flat_gives_mu0_and_the_spring_ratio() -> N
     ratio = spring_slider_stiffness_ratio(10.0, g_star)
     assert np.all(ds["stiffness_ratio"].values >= ratio * (1 - 1e-12))
     assert np.all(ds["dissipation"].values > 0)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 5])
+def test_interface_stiffness_of_rough_pairs_is_positive_and_bounded(seed: int) -> None:
+    """K = Σ[(π/4)E* e e^T + G* t t^T] is positive definite, so k_T, k_N > 0 and k_T/k_N lies
+    between G*/((π/4)E*) and its inverse (each contact's ratio does, so their mediant does);
+    against a rigid flat the ratio is G*/((π/4)E*) exactly, whatever the roughness."""
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=seed, n_points=10_000, length=1.0)
+    d = 0.1 * lower.peak_to_valley
+    path = [Segment(normal=d, steps=40), Segment(tangential=0.01, steps=5)]
+    spring = spring_slider_stiffness_ratio(10.0, 10.0 / 2.6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rough = simulate(lower, upper, path=path, record_contacts=[40])
+        flat = simulate(lower, "flat", path=path, record_contacts=[40])
+    for result in (rough, flat):
+        stiff = interface_stiffness(result)
+        assert stiff.step == 40 and stiff.n_contacts == result.n_contacts[40] > 0
+        assert stiff.k_t > 0 and stiff.k_n > 0
+        assert stiff.k_tn**2 < stiff.k_t * stiff.k_n  # positive definite
+        assert spring * (1 - 1e-12) <= stiff.ratio <= (1 + 1e-12) / spring
+    assert interface_stiffness(flat).ratio == pytest.approx(spring, rel=1e-12)
+    assert interface_stiffness(flat).k_n == pytest.approx(
+        0.25 * np.pi * 10.0 * flat.n_contacts[40], rel=1e-12
+    )
