@@ -6,8 +6,9 @@ end of the previous one to its targets:
 
 * ``Segment(normal=δ_N, tangential=u_T, steps=n)`` — displacement control [µm];
 * ``Segment(normal_force=F_N, tangential=u_T, steps=n)`` — F_N [mN/µm] is held at every step of
-  the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9 where F_N(δ_N)
-  is continuous).
+  the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9). Where eq. 9
+  makes F_N(δ_N) jump across the target, the step's contact cells are fixed through the solve
+  (:func:`_consistent_set`, ``docs/friction.md``).
 
 ``tangential`` omitted keeps the current shift. The upper body shifted by u_T is its spline
 evaluated at x − u_T (no re-fit); the tangential springs of eqs. 11–13 follow each contact as
