@@ -19,6 +19,7 @@ from matplotlib.figure import Figure
 from splinecontact import Segment, simulate, weierstrass_mandelbrot_pair
 from splinecontact.analysis import (
     friction_study,
+    interface_stiffness,
     mindlin_stiffness_ratio,
     normal_stiffness,
     spring_slider_stiffness_ratio,
@@ -88,28 +89,39 @@ def ratio_vs_load(overwrite: bool) -> None:
     ax = fig.subplots()
     for flat in (False, True):
         rows = []
+        iface_rows = []
         for fraction in fractions:
             ratios = []
+            iface = []
             for seed in (1, 2, 3, 4):
                 lower, upper = weierstrass_mandelbrot_pair(
                     1.5, seed=seed, n_points=N_POINTS, length=LENGTH
                 )
                 d = fraction * lower.peak_to_valley
                 path = [Segment(normal=d, steps=200), Segment(tangential=5e-5, steps=1)]
-                r = simulate(lower, "flat" if flat else upper, path=path)
+                r = simulate(lower, "flat" if flat else upper, path=path, record_contacts=[200])
                 k_t = tangential_stiffness(r)
                 ratios.append(k_t / normal_stiffness(r, increments=20))
+                iface.append(interface_stiffness(r).ratio)
             rows.append((np.mean(ratios), np.std(ratios, ddof=1)))
+            iface_rows.append((np.mean(iface), np.std(iface, ddof=1)))
         mean = np.array([m for m, _ in rows])
         std = np.array([s for _, s in rows])
         label = "rough-on-flat" if flat else "rough-on-rough"
         print(label, "k_T/k_N vs load", np.round(mean, 3))
-        ax.errorbar(fractions, mean, yerr=std, marker="o", capsize=3, label=f"{label}, D = 1.5")
+        ax.errorbar(fractions, mean, yerr=std, marker="o", capsize=3, ls=":",
+                    label=f"{label}, finite difference")  # fmt: skip
+        i_mean = np.array([m for m, _ in iface_rows])
+        i_std = np.array([s for _, s in iface_rows])
+        print(label, "interface k_T/k_N vs load", np.round(i_mean, 3), "±", np.round(i_std, 3))
+        ax.errorbar(fractions, i_mean, yerr=i_std, marker="s", capsize=3,
+                    label=f"{label}, interface stiffness")  # fmt: skip
     ax.axhline(spring_slider_stiffness_ratio(10.0, 10.0 / 2.6), color="0.5", ls="--",
                label="one stuck SAD contact: G*/((π/4)E*)")  # fmt: skip
     ax.axhline(mindlin_stiffness_ratio(0.3), color="0.5", ls=":", label="Mindlin, ν = 0.3")
     ax.set_xlabel("δ_N / lower peak-to-valley height [1]")
-    ax.set_ylabel("k_T / k_N [1]  (error bar: std of 4 pairs)")
+    ax.set_ylabel("k_T / k_N [1], D = 1.5  (error bar: std of 4 pairs)")
+    ax.set_ylim(-3, 5)
     ax.legend()
     _save(fig, "friction_ratio_vs_load.png", overwrite)
 

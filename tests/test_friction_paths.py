@@ -13,7 +13,12 @@ import numpy as np
 import pytest
 
 from splinecontact import Profile, Segment, simulate
-from splinecontact.analysis import dissipated_energy, driver_work, segment_steps
+from splinecontact.analysis import (
+    dissipated_energy,
+    driver_work,
+    interface_stiffness,
+    segment_steps,
+)
 
 from conftest import ANGSTROM, circle_cap
 
@@ -223,3 +228,33 @@ def test_force_control_holds_the_normal_force(mu0: float) -> None:
             assert abs(result.displacement[k] - exact) <= 1e-6 * exact
         # The circles are lowered to keep F_N while they slide apart sideways.
         assert np.ptp(result.displacement[21:81]) > 1e-4
+
+
+@pytest.mark.parametrize(
+    ("r1", "r2", "d", "u1"), [(10.0, 5.0, 0.01, -0.05), (0.5, 0.5, 0.06, -0.3)]
+)
+def test_interface_stiffness_of_an_inclined_stuck_contact(
+    r1: float, r2: float, d: float, u1: float
+) -> None:
+    """K_xx = (π/4)E* e_x² + G* e_z² of one stuck inclined contact: the analytic direction, and
+    the finite-difference −ΔF_T/Δu_T of a small stuck slide, to O(δ/R) (the rotation of e)."""
+    delta, e_x, e_z = _analytic(r1, r2, np.array([u1]), np.array([d]))
+    lower, upper = _circles(r1, r2, abs(u1) + 2 * math.sqrt(delta[0] * r1 * r2 / (r1 + r2)))
+    du = 0.2 * ANGSTROM  # the contact centre stays in its cell
+    path = [
+        Segment(normal=0.0, tangential=u1, steps=5),
+        Segment(normal=d, steps=40),
+        Segment(tangential=u1 + du, steps=1),
+    ]
+    result = simulate(lower, upper, mu0=1e6, e_star=E_STAR, path=path, record_contacts=[45, 46])
+    assert np.all(result.n_contacts[40:] == 1) and np.all(result.n_slipping == 0)
+    stiff = interface_stiffness(result, 45)
+    assert stiff.step == 45 and stiff.n_contacts == 1
+    k_t = QP * E_STAR * e_x[0] ** 2 + G_STAR * e_z[0] ** 2
+    k_n = QP * E_STAR * e_z[0] ** 2 + G_STAR * e_x[0] ** 2
+    assert stiff.k_t == pytest.approx(k_t, rel=1e-6)
+    assert stiff.k_n == pytest.approx(k_n, rel=1e-6)
+    assert stiff.k_tn == pytest.approx((QP * E_STAR - G_STAR) * e_x[0] * e_z[0], rel=1e-6)
+    assert stiff.ratio == pytest.approx(k_t / k_n, rel=1e-6)
+    finite = -(result.tangential_force[46] - result.tangential_force[45]) / du
+    assert finite == pytest.approx(stiff.k_t, rel=2 * delta[0] / min(r1, r2))

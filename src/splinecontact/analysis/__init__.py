@@ -76,10 +76,12 @@ from .ensemble import (
     values_at,
 )
 from .friction import (
+    InterfaceStiffness,
     StaticFriction,
     dilatancy,
     dissipated_energy,
     driver_work,
+    interface_stiffness,
     mindlin_stiffness_ratio,
     normal_stiffness,
     segment_steps,
@@ -98,6 +100,7 @@ __all__ = [
     "PERSSON_KAPPA",
     "AnalysisError",
     "FrictionAnalysisError",
+    "InterfaceStiffness",
     "StaticFriction",
     "confidence_halfwidth",
     "dilatancy",
@@ -110,6 +113,7 @@ __all__ = [
     "force_split",
     "friction_study",
     "grid_dims",
+    "interface_stiffness",
     "interpolate_realizations",
     "kappa",
     "kappa_alternatives",

@@ -12,6 +12,12 @@ force resisting a motion toward +x is negative. Stiffnesses are per µm of out-o
   ratio. For comparison: Mindlin's
   k_T/k_N = 2(1 − ν)/(2 − ν) for two identical elastic bodies (0.824 at ν = 0.3); the SAD model of
   one stuck contact on a flat has k_T/k_N = G*/((π/4)E*) (0.490 with the default G* = E*/2.6).
+* The interface's elastic stiffness at a fixed contact configuration (``interface_stiffness``):
+  K = Σ_c [(π/4)E* e e^T + G* t t^T] over the accepted contacts of one step (e the repulsive
+  direction, t = (e_z, −e_x)), i.e. k_T = Σ[(π/4)E* e_x² + G* e_z²] and
+  k_N = Σ[(π/4)E* e_z² + G* e_x²]: the response to an infinitesimal rigid displacement with every
+  spring stuck and no contact appearing or vanishing. It is positive and stable for rough pairs,
+  where the finite-difference k_T above is dominated by contacts appearing and vanishing.
 * Dissipation over a step range: the increase of ``dissipated_work`` (Σ slip × capped force).
   The work done by the driver, W = ∫(F_N dδ_N − F_T du_T), equals it over a closed cycle of a
   single spring–slider; for rough pairs it also contains the energy released when contacts vanish.
@@ -31,10 +37,12 @@ from ..errors import FrictionAnalysisError, ParameterError
 from ..results import SimulationResult
 
 __all__ = [
+    "InterfaceStiffness",
     "StaticFriction",
     "dilatancy",
     "dissipated_energy",
     "driver_work",
+    "interface_stiffness",
     "mindlin_stiffness_ratio",
     "normal_stiffness",
     "segment_steps",
@@ -160,6 +168,87 @@ def normal_stiffness(
             "step (δ_N must change)"
         )
     return _slope(d[lo : step + 1], fn[lo : step + 1])
+
+
+@dataclass(frozen=True)
+class InterfaceStiffness:
+    """Elastic stiffness of the contacts of one step (see :func:`interface_stiffness`).
+
+    Attributes
+    ----------
+    k_t : float
+        Tangential stiffness −∂F_T/∂u_T [GPa] (mN/µm per µm).
+    k_n : float
+        Normal stiffness ∂F_N/∂δ_N [GPa].
+    k_tn : float
+        Coupling K_xz = Σ ((π/4)E* − G*) e_x e_z = ∂F_T/∂δ_N = −∂F_N/∂u_T [GPa].
+    ratio : float
+        k_t / k_n [1] (NaN without contacts).
+    n_contacts : int
+        Accepted contacts of the step.
+    step : int
+        The step.
+    """
+
+    k_t: float
+    k_n: float
+    k_tn: float
+    ratio: float
+    n_contacts: int
+    step: int
+
+
+def interface_stiffness(result: SimulationResult, step: int | None = None) -> InterfaceStiffness:
+    """The elastic stiffness of the accepted contacts of ``step`` (eqs. 10–11, eq. 14).
+
+    Each contact is a normal spring dF^n/dδ = (π/4)E* (eq. 10, Hertz) along its repulsive
+    direction e and a tangential spring G* (eq. 11) along t = (e_z, −e_x). For a rigid
+    displacement (du_T, −dδ_N) of the upper body with every spring stuck, no contact appearing or
+    vanishing and e held (its rotation is of order F^n/(E* R_eff), neglected):
+
+        k_T = −∂F_T/∂u_T = Σ [(π/4)E* e_x² + G* e_z²],
+        k_N = ∂F_N/∂δ_N = Σ [(π/4)E* e_z² + G* e_x²].
+
+    Against a rigid flat (e = (0, 1)) k_T/k_N = G*/((π/4)E*) exactly (0.490 with G* = E*/2.6;
+    Mindlin's 0.824 at ν = 0.3 is the 3D elastic value, :func:`mindlin_stiffness_ratio`). For
+    rough pairs it lies between G*/((π/4)E*) and its inverse, weighted by the contact slopes.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A result whose contacts were recorded at ``step`` (``record_contacts``).
+    step : int, optional
+        Default: the start of the first tangential segment of a load path.
+
+    Raises
+    ------
+    FrictionAnalysisError
+        The contacts of ``step`` were not recorded, or the result used another contact law.
+    """
+    law = result.parameters.get("law", "hertz")
+    if law != "hertz":
+        raise FrictionAnalysisError(
+            f"law = {law!r}: interface_stiffness uses the Hertz spring (π/4)E* of eq. 10"
+        )
+    if step is None:
+        _, step, _ = _first_tangential(result)
+    record = next((c for c in result.contacts if c.step == step), None)
+    if record is None:
+        raise FrictionAnalysisError(
+            f"step {step}: its contacts were not recorded; pass record_contacts=[{step}, ...] "
+            "to simulate"
+        )
+    kn_c = 0.25 * math.pi * float(result.parameters["e_star"])
+    kt_c = float(result.parameters["g_star"])
+    ex = np.asarray(record.normal_x, dtype=np.float64)
+    ez = np.asarray(record.normal_z, dtype=np.float64)
+    k_t = float(np.sum(kn_c * ex * ex + kt_c * ez * ez))
+    k_n = float(np.sum(kn_c * ez * ez + kt_c * ex * ex))
+    k_tn = float(np.sum((kn_c - kt_c) * ex * ez))
+    ratio = k_t / k_n if k_n > 0 else math.nan
+    return InterfaceStiffness(
+        k_t=k_t, k_n=k_n, k_tn=k_tn, ratio=ratio, n_contacts=int(ex.size), step=int(step)
+    )
 
 
 def mindlin_stiffness_ratio(poisson: float = 0.3) -> float:

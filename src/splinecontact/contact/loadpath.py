@@ -6,8 +6,9 @@ end of the previous one to its targets:
 
 * ``Segment(normal=δ_N, tangential=u_T, steps=n)`` — displacement control [µm];
 * ``Segment(normal_force=F_N, tangential=u_T, steps=n)`` — F_N [mN/µm] is held at every step of
-  the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9 where F_N(δ_N)
-  is continuous).
+  the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9). Where eq. 9
+  makes F_N(δ_N) jump across the target, the step's contact cells are fixed through the solve
+  (:func:`_consistent_set`, ``docs/friction.md``).
 
 ``tangential`` omitted keeps the current shift. The upper body shifted by u_T is its spline
 evaluated at x − u_T (no re-fit); the tangential springs of eqs. 11–13 follow each contact as
@@ -106,6 +107,14 @@ def _scratch(capacity: int) -> _k.Scratch:
         slip=np.empty(capacity, dtype=np.bool_),
         src=np.empty(capacity, dtype=np.int64),
         width=np.empty(capacity),
+        cl_i=np.empty(capacity, dtype=np.int64),
+        cl_g=np.empty(capacity),
+        cl_s1=np.empty(capacity),
+        cl_s2=np.empty(capacity),
+        cl_kl=np.empty(capacity),
+        cl_nx=np.empty(capacity),
+        cl_nz=np.empty(capacity),
+        cl_keep=np.empty(capacity, dtype=np.bool_),
     )
 
 
@@ -187,16 +196,24 @@ def _step(
     du: float,
     dd: float,
     commit: bool,
+    fixed: NDArray[np.bool_] | None = None,
+    migrate: int | None = None,
 ) -> _k.StepSums:
     state.ensure(cands.idx.size + 1)
-    # the formula of path_kernel.migrate_cells_of, run as Python (no dispatch per call)
-    migrate = _k.migrate_cells_of.py_func(du, dd, geo.surf.dx, geo.surf.f_l.size)
+    if migrate is None:
+        migrate = _migrate_cells(geo, du, dd)
     return _k.StepSums(
         *_k.path_step_from_python(
             u, d, du, dd, commit, geo.surf_tuple, cands.idx, cands.bound, state.material_tuple,
             migrate, state.springs_tuple, state.scratch_tuple,
+            state.springs.claimed if fixed is None else fixed, fixed is not None,
         )
     )  # fmt: skip
+
+
+def _migrate_cells(geo: _Geometry, du: float, dd: float) -> int:
+    """The migration window [cells] of a step (path_kernel.migrate_cells_of, run as Python)."""
+    return int(_k.migrate_cells_of.py_func(du, dd, geo.surf.dx, geo.surf.f_l.size))
 
 
 #: The per-step sums of :func:`.path_kernel.path_step`, in table column order.
@@ -208,12 +225,16 @@ def _solve_force(
     evaluate: Any,
     d_start: float,
     scale: float,
-) -> tuple[float, tuple[Any, ...]]:
-    """δ_N with F_N(δ_N) = target (bracketing, then Illinois regula falsi with bisection)."""
+) -> tuple[float, tuple[Any, ...], float, float]:
+    """δ_N with F_N(δ_N) = target (bracketing, then Illinois regula falsi with bisection).
+
+    Returns δ_N, the evaluation there, and the final bracket (lo, hi) with F_N(lo) < target ≤
+    F_N(hi); lo = hi = δ_N when the target was met to ``FORCE_RTOL``.
+    """
     f_start = evaluate(d_start)
     r_start = f_start[0] - target
     if abs(r_start) <= FORCE_RTOL * target:
-        return d_start, f_start
+        return d_start, f_start, d_start, d_start
     step = max(1e-6 * scale, 1e-3 * abs(d_start), 1e-12)
     direction = 1.0 if r_start < 0 else -1.0
     a, ra, fa = d_start, r_start, f_start
@@ -242,9 +263,9 @@ def _solve_force(
     side = 0
     for iteration in range(400):
         if abs(r_hi) <= FORCE_RTOL * target:
-            return hi, f_hi
+            return hi, f_hi, hi, hi
         if abs(r_lo) <= FORCE_RTOL * target:
-            return lo, f_lo
+            return lo, f_lo, lo, lo
         width = abs(hi - lo)
         if width <= 4.0 * np.spacing(max(abs(hi), abs(lo), 1e-300)):
             break
@@ -268,8 +289,68 @@ def _solve_force(
     # δ_N): no δ_N carries the target. Take the side closer to it; the miss stays visible as
     # normal_force − normal_force_target in the output.
     if abs(r_lo) < abs(r_hi):
-        return lo, f_lo
-    return hi, f_hi
+        return lo, f_lo, lo, hi
+    return hi, f_hi, lo, hi
+
+
+def _accepted_cells(evaluate: Any, state: _State, d: float) -> NDArray[np.int64]:
+    """The cells that eq. 9 accepts at δ_N = d (a trial evaluation)."""
+    n_c = int(evaluate(d)[3])
+    return state.scratch.idx[:n_c].copy()
+
+
+def _consistent_set(
+    target: float,
+    evaluate: Any,
+    state: _State,
+    bracket: tuple[float, float],
+    d_miss: float,
+    scale: float,
+    window_of: Any,
+) -> tuple[float, NDArray[np.bool_] | None, int | None]:
+    """δ_N holding F_N = target when the free F_N(δ_N) jumps across it (see docs/friction.md).
+
+    With the contact cells and the migration window fixed, F_N(δ_N) is continuous (contacts
+    appear at zero overlap) and the target is met. The cells that eq. 9 accepts on each side of
+    the jump are tried in turn (the side below the target first), the window being the one of
+    the step's solved Δδ_N (iterated to a fixed point); a set is consistent when eq. 9 accepts
+    exactly it at the δ_N that carries the target with it, and the step is then the free model
+    at that δ_N. If neither side is consistent, the target lies in a true jump of the model;
+    the set of the side below the target is kept through the step, which holds F_N.
+
+    Returns δ_N, the fixed cells and the window (``None``, ``None``: the free miss, kept).
+    """
+    n = state.springs.acc.size
+    fallback: tuple[float, NDArray[np.bool_], int] | None = None
+    for side in bracket:
+        cells = _accepted_cells(evaluate, state, side)
+        fixed = np.zeros(n, dtype=np.bool_)
+        fixed[cells] = True
+        next_window = window_of(side)
+        solved = False
+        d = side
+        window = next_window
+        for _ in range(4):
+            window = next_window
+            try:
+                d, _, lo, hi = _solve_force(
+                    target, lambda trial, _f=fixed, _w=window: evaluate(trial, _f, _w), side, scale
+                )
+            except ForceControlError:
+                break
+            solved = lo == hi
+            next_window = window_of(d)
+            if not solved or next_window == window:
+                break
+        if not solved:
+            continue
+        if np.array_equal(_accepted_cells(evaluate, state, d), cells):
+            return d, fixed, window
+        if fallback is None:
+            fallback = (d, fixed, window)
+    if fallback is not None:
+        return fallback
+    return d_miss, None, None
 
 
 def run_path(
@@ -401,17 +482,30 @@ def run_path(
             cands = _Candidates(geo, state, u, d_cur + margin)
 
             def evaluate(
-                trial: float, _u: float = u, _du: float = du, _d0: float = d_cur
+                trial: float,
+                fixed: NDArray[np.bool_] | None = None,
+                migrate: int | None = None,
+                _u: float = u,
+                _du: float = du,
+                _d0: float = d_cur,
             ) -> tuple[Any, ...]:
                 nonlocal cands
                 if trial > cands.d_max:
                     cands = _Candidates(geo, state, _u, trial + margin)
-                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False)
+                return _step(geo, cands, state, _u, trial, _du, trial - _d0, False, fixed, migrate)
 
-            d, _ = _solve_force(force, evaluate, d_cur, geo.scale)
+            d, _, lo, hi = _solve_force(force, evaluate, d_cur, geo.scale)
+            fixed: NDArray[np.bool_] | None = None
+            window: int | None = None
+            if lo != hi:
+                # F_N jumps between lo and hi: eq. 9 drops a contact there (docs/friction.md).
+                d, fixed, window = _consistent_set(
+                    force, evaluate, state, (lo, hi), d, geo.scale,
+                    lambda trial, _du=du, _d0=d_cur: _migrate_cells(geo, _du, trial - _d0),
+                )  # fmt: skip
             if d > cands.d_max:
                 cands = _Candidates(geo, state, u, d + margin)
-            values = _step(geo, cands, state, u, d, du, d - d_cur, True)
+            values = _step(geo, cands, state, u, d, du, d - d_cur, True, fixed, window)
             target[k + 1] = force
             k += 1
             store(k, d, u, values)

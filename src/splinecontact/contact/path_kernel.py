@@ -27,6 +27,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._culling import Culling, Surfaces, block_max, candidate_bounds, interval_envelope
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, tangential_spring
 
@@ -43,36 +44,6 @@ __all__ = [
     "path_step_from_python",
     "run_steps",
 ]
-
-
-class Surfaces(NamedTuple):
-    """The two bodies on the lower grid (n points) and the upper spline's knots."""
-
-    f_l: NDArray[np.float64]  # lower smoothed heights [µm]
-    kappa_l: NDArray[np.float64]  # lower own-frame curvature [1/µm] (clamped)
-    nl_x: NDArray[np.float64]  # lower outward normal [1]
-    nl_z: NDArray[np.float64]
-    f_u: NDArray[np.float64]  # upper spline knot values [µm]
-    gamma_u: NDArray[np.float64]  # upper second differences f″·dx² [µm]
-    slope_u: NDArray[np.float64]  # upper f′ at the knots [1]
-    curv_u: NDArray[np.float64]  # upper f″ at the knots [1/µm]
-    flat: bool  # rigid flat upper body
-    placement: float  # C: zero minimum gap at δ_N = 0, u_T = 0 [µm]
-    dx: float  # grid spacing [µm]
-    kappa_max: float  # 1/r_min [1/µm]
-
-
-class Culling(NamedTuple):
-    """Block maxima for the candidate culling of :func:`candidate_bounds`."""
-
-    f_l_block: NDArray[np.float64]
-    envelope: NDArray[np.float64]
-    envelope_block: NDArray[np.float64]
-    block: int
-    f_l_super: NDArray[np.float64]
-    envelope_super: NDArray[np.float64]
-    per_super: int
-    margin: float  # rounding margin of the bounds [µm]
 
 
 class Springs(NamedTuple):
@@ -103,6 +74,15 @@ class Scratch(NamedTuple):
     slip: NDArray[np.bool_]  # slipping
     src: NDArray[np.int64]  # previous cell continued (−1: new contact)
     width: NDArray[np.float64]  # contact half-width [µm] (share of A_S)
+    # the closed points of the configuration (gap ≤ reach), packed for the acceptance filter
+    cl_i: NDArray[np.int64]  # lower grid index
+    cl_g: NDArray[np.float64]  # gap [µm]
+    cl_s1: NDArray[np.float64]  # upper slope S′ [1]
+    cl_s2: NDArray[np.float64]  # upper S″ [1/µm]
+    cl_kl: NDArray[np.float64]  # lower curvature [1/µm]
+    cl_nx: NDArray[np.float64]  # lower normal [1]
+    cl_nz: NDArray[np.float64]
+    cl_keep: NDArray[np.bool_]  # may pass Table 1, eq. 9 and δ > −reach (conservative)
 
 
 class StepSums(NamedTuple):
@@ -120,171 +100,113 @@ class StepSums(NamedTuple):
     n_candidates: int
 
 
-@numba.njit(cache=True, nogil=True)
-def interval_envelope(
-    f: NDArray[np.float64], gamma: NDArray[np.float64]
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Upper bound of the cubic spline on each knot interval k (n − 1 values) [µm].
-
-    On [k, k+1] the spline is the chord plus [γ_k a(t) + γ_{k+1} b(t)]/6 with a, b ≤ 0 and
-    a + b ≥ −3/4, so it never exceeds max(f_k, f_{k+1}) + max(|γ_k|, |γ_{k+1}|)/8.
-    """
-    n = f.size
-    out = np.empty(n - 1)
-    for k in range(n - 1):
-        hi = f[k] if f[k] > f[k + 1] else f[k + 1]
-        gk = abs(gamma[k])
-        gk1 = abs(gamma[k + 1])
-        out[k] = hi + 0.125 * (gk if gk > gk1 else gk1)
-    return out
-
-
-@numba.njit(cache=True, nogil=True)
-def block_max(values: NDArray[np.float64], block: int) -> NDArray[np.float64]:  # pragma: no cover
-    """Maximum of each run of ``block`` consecutive values."""
-    nb = (values.size + block - 1) // block
-    out = np.empty(nb)
-    for b in range(nb):
-        hi = values[b * block]
-        for i in range(b * block + 1, min(values.size, (b + 1) * block)):
-            if values[i] > hi:
-                hi = values[i]
-        out[b] = hi
-    return out
-
-
-@numba.njit(cache=True, nogil=True)
-def candidate_bounds(
-    surf: Surfaces,
-    cull: Culling,
-    offset_lo: int,
-    offset_hi: int,
-    threshold: float,
-    out_idx: NDArray[np.int64],
-    out_bound: NDArray[np.float64],
-) -> int:  # pragma: no cover - compiled
-    """Points whose rigid gap can close, in grid order, with an upper bound of f^l_i + f^u(ξ).
-
-    For lower point i the upper spline is evaluated on the knot intervals
-    k ∈ [i + offset_lo, i + offset_hi] (clipped to the upper body); the bound is f^l_i plus the
-    largest interval envelope there. Only points with bound ≥ ``threshold`` (= C − δ_N) are
-    kept. Super-blocks of ``per_super`` blocks, then blocks of ``block`` points, are first culled
-    with their maxima (``f_l_super``, ``envelope_super``: maxima of ``per_super`` consecutive
-    block maxima), so the cost is O(n/(block·per_super)) plus the blocks near contact.
-    """
-    f_l = surf.f_l
-    flat = surf.flat
-    f_l_block = cull.f_l_block
-    envelope = cull.envelope
-    envelope_block = cull.envelope_block
-    block = cull.block
-    f_l_super = cull.f_l_super
-    envelope_super = cull.envelope_super
-    per_super = cull.per_super
-    margin = cull.margin
-    n = f_l.size
-    count = 0
-    nb = f_l_block.size
-    n_super = f_l_super.size
-    span = block * per_super
-    if flat:
-        for sb in range(n_super):
-            if f_l_super[sb] + margin < threshold:
-                continue
-            for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
-                if f_l_block[b] + margin < threshold:
-                    continue
-                for i in range(b * block, min(n, (b + 1) * block)):
-                    v = f_l[i] + margin
-                    if v >= threshold:
-                        out_idx[count] = i
-                        out_bound[count] = v
-                        count += 1
-        return count
-    m = envelope.size
-    m_super = envelope_super.size
-    # Monotonic queue of knot intervals (decreasing envelope): the window maximum of every point
-    # of a block in O(block + window) instead of O(block × window).
-    queue = np.empty(block + max(0, offset_hi - offset_lo) + 2, dtype=np.int64)
-    for sb in range(n_super):
-        p0 = sb * span
-        p1 = min(n, p0 + span) - 1
-        s_lo = max(0, p0 + offset_lo)
-        s_hi = min(m - 1, p1 + offset_hi)
-        if s_hi < s_lo:
-            continue
-        e_super = -np.inf
-        for ks in range(s_lo // span, min(m_super - 1, s_hi // span) + 1):
-            if envelope_super[ks] > e_super:
-                e_super = envelope_super[ks]
-        if f_l_super[sb] + e_super + margin < threshold:
-            continue
-        for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
-            i0 = b * block
-            i1 = min(n, i0 + block) - 1
-            k_lo = max(0, i0 + offset_lo)
-            k_hi = min(m - 1, i1 + offset_hi)
-            if k_hi < k_lo:
-                continue
-            e_max = -np.inf
-            for kb in range(k_lo // block, k_hi // block + 1):
-                if envelope_block[kb] > e_max:
-                    e_max = envelope_block[kb]
-            if f_l_block[b] + e_max + margin < threshold:
-                continue
-            head = 0
-            tail = 0
-            nxt = k_lo  # next knot interval to enter the queue
-            for i in range(i0, i1 + 1):
-                lo = max(0, i + offset_lo)
-                hi = min(m - 1, i + offset_hi)
-                if hi < lo:
-                    continue
-                while nxt <= hi:
-                    e_new = envelope[nxt]
-                    while tail > head and envelope[queue[tail - 1]] <= e_new:
-                        tail -= 1
-                    queue[tail] = nxt
-                    tail += 1
-                    nxt += 1
-                while queue[head] < lo:
-                    head += 1
-                v = f_l[i] + envelope[queue[head]] + margin
-                if v >= threshold:
-                    out_idx[count] = i
-                    out_bound[count] = v
-                    count += 1
-    return count
-
-
-@numba.njit(cache=True, nogil=True)
-def _upper_surface(
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_height(
     surf: Surfaces, i: int, shift: float
-) -> tuple[bool, float, float, float]:  # pragma: no cover - compiled
-    """(inside, h^u, S′/dx, S″/dx²) of the shifted upper spline at lower point i (module doc)."""
+) -> tuple[bool, float, int, float]:  # pragma: no cover - compiled
+    """(inside, h^u, k, t) of the shifted upper spline at lower point i (module doc)."""
     if surf.flat:
-        return True, 0.0, 0.0, 0.0
+        return True, 0.0, 0, 0.0
     f_u = surf.f_u
     n_up = f_u.size
     xi = i - shift
     if xi < 0.0 or xi > n_up - 1:
-        return False, 0.0, 0.0, 0.0
+        return False, 0.0, 0, 0.0
     k = math.floor(xi)
     if k > n_up - 2:
         k = n_up - 2
     t = xi - k
+    if t == 0.0:  # on a knot: the fitted value itself
+        return True, f_u[k], k, t
+    w = 1.0 - t
+    h_u = (
+        w * f_u[k]
+        + t * f_u[k + 1]
+        + (surf.gamma_u[k] * (w * w * w - w) + surf.gamma_u[k + 1] * (t * t * t - t)) / 6.0
+    )
+    return True, h_u, k, t
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_slopes(
+    surf: Surfaces, k: int, t: float
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """(S′/dx, S″/dx²) of the upper spline at knot interval k, fraction t (module doc)."""
+    if surf.flat:
+        return 0.0, 0.0
     if t == 0.0:  # on a knot: the fitted values themselves
-        return True, f_u[k], surf.slope_u[k], surf.curv_u[k]
+        return surf.slope_u[k], surf.curv_u[k]
+    f_u = surf.f_u
     w = 1.0 - t
     g0 = surf.gamma_u[k]
     g1 = surf.gamma_u[k + 1]
-    h_u = w * f_u[k] + t * f_u[k + 1] + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
     inv_dx = 1.0 / surf.dx
     s1 = (
         f_u[k + 1] - f_u[k] + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0
     ) * inv_dx
     s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
-    return True, h_u, s1, s2
+    return s1, s2
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_sphere(
+    s1: float, s2: float, kappa_max: float
+) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """(κ^u clamped to ±kappa_max, m_x, m_z) of the upper surface of slope s1 and f″ s2."""
+    norm_u = math.sqrt(1.0 + s1 * s1)
+    k_u = -s2 / (norm_u * norm_u * norm_u)
+    if k_u > kappa_max:
+        k_u = kappa_max
+    elif k_u < -kappa_max:
+        k_u = -kappa_max
+    return k_u, s1 / norm_u, 1.0 / norm_u
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _filter_closed(
+    n_cl: int, kappa_max: float, half_dx: float, min_delta: float, scratch: Scratch
+) -> None:  # pragma: no cover - compiled
+    """Flag the closed points that may pass Table 1, δ > min_delta and eq. 9 (``cl_keep``).
+
+    The arithmetic of :func:`.geometry.sphere_contact` on the packed closed points, written
+    without branches so that it runs on vector units; the tests are widened (eq. 9 by a relative
+    10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale) so that no point the exact test accepts is
+    dropped, whatever the rounding. The kept points are decided exactly afterwards.
+    """
+    g_a = scratch.cl_g
+    s1_a = scratch.cl_s1
+    s2_a = scratch.cl_s2
+    kl_a = scratch.cl_kl
+    nx_a = scratch.cl_nx
+    nz_a = scratch.cl_nz
+    keep = scratch.cl_keep
+    lim = 2.0 * half_dx * (1.0 + 1e-6)
+    for q in range(n_cl):
+        g = g_a[q]
+        s1 = s1_a[q]
+        k_l = kl_a[q]
+        n_x = nx_a[q]
+        n_z = nz_a[q]
+        norm_u = math.sqrt(1.0 + s1 * s1)
+        k_u = min(max(-s2_a[q] / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
+        m_x = s1 / norm_u
+        m_z = 1.0 / norm_u
+        k_sum = k_l + k_u
+        k_prod = k_u * k_l
+        y_x = k_l * m_x + k_u * n_x
+        y_z = k_prod * g + k_l * m_z + k_u * n_z
+        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+        dmx = m_x - n_x
+        dmz = m_z - n_z
+        num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
+        delta = num / (y_norm + k_sum)
+        off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
+        keep[q] = (
+            (k_sum > 0.0)
+            & (y_norm > 0.0)
+            & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
+            & (abs(off) <= lim * y_norm)
+        )
 
 
 @numba.njit(cache=True, nogil=True)
@@ -362,6 +284,8 @@ def path_step(
     migrate_cells: int,
     springs: Springs,
     scratch: Scratch,
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
 ) -> StepSums:  # pragma: no cover - compiled
     """One configuration (u, δ_N) of the upper body; see the module docstring.
 
@@ -369,6 +293,12 @@ def path_step(
     decreasing bound when ``descending``), accepts contacts (Table 1, eq. 9, eq. 10, the law of
     ``material``), migrates the springs (:func:`_migrate`) and applies eqs. 11–13. With
     ``commit`` the new spring and law state replace the old.
+
+    With ``use_fixed`` the contact cells are given: the cells i with ``fixed[i]`` are the ones
+    that may carry a contact (Table 1 and δ > −reach still tested, eq. 9 and the detection
+    gap ≤ reach not), the others carry none. The result is then continuous in δ_N (a contact
+    appears at zero overlap), and for cells that eq. 9 accepts anyway it is bit-identical to the
+    free evaluation.
     """
     f_l = surf.f_l
     n = f_l.size
@@ -381,7 +311,7 @@ def path_step(
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    n_c = 0
+    # 1. The gap of every candidate; the closed points (gap ≤ reach) are packed.
     n_closed = 0
     for j in range(cand.size):
         if bound[j] < threshold:
@@ -390,24 +320,41 @@ def path_step(
             continue
         i = cand[j]
         # The height first: the slope and curvature only where the gap has closed.
-        inside, h_u, s1, s2 = _upper_surface(surf, i, shift)
+        inside, h_u, k, t = _upper_height(surf, i, shift)
         if not inside:
             continue
         g = (placement - (h_u + f_l[i])) - d
-        if g > reach:
+        if g > reach and not (use_fixed and fixed[i]):
             continue
+        s1, s2 = _upper_slopes(surf, k, t)
+        scratch.cl_i[n_closed] = i
+        scratch.cl_g[n_closed] = g
+        scratch.cl_s1[n_closed] = s1
+        scratch.cl_s2[n_closed] = s2
+        scratch.cl_kl[n_closed] = surf.kappa_l[i]
+        scratch.cl_nx[n_closed] = surf.nl_x[i]
+        scratch.cl_nz[n_closed] = surf.nl_z[i]
         n_closed += 1
-        k_l = surf.kappa_l[i]
-        norm_u = math.sqrt(1.0 + s1 * s1)
-        k_u = -s2 / (norm_u * norm_u * norm_u)
-        if k_u > kappa_max:
-            k_u = kappa_max
-        elif k_u < -kappa_max:
-            k_u = -kappa_max
-        m_z = 1.0 / norm_u
-        n_z = surf.nl_z[i]
+    # 2. Most closed points fail eq. 9: a branch-free conservative filter first.
+    if not use_fixed:
+        _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
+    cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
+    # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
+    n_c = 0
+    for q in range(n_closed):
+        i = scratch.cl_i[q]
+        if use_fixed:
+            if not fixed[i]:
+                continue
+        elif not scratch.cl_keep[q]:
+            continue
+        g = scratch.cl_g[q]
+        s1 = scratch.cl_s1[q]
+        k_l = scratch.cl_kl[q]
+        k_u, m_x, m_z = _upper_sphere(s1, scratch.cl_s2[q], kappa_max)
+        n_z = scratch.cl_nz[q]
         accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
-            g, k_l, k_u, s1 / norm_u, m_z, surf.nl_x[i], n_z, half_dx, -reach
+            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, cell_test, -reach
         )
         if not accepted:
             continue
@@ -495,6 +442,8 @@ def path_step_from_python(
     migrate_cells: int,
     springs: tuple[Any, ...],
     scratch: tuple[Any, ...],
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
 ) -> tuple[Any, ...]:  # pragma: no cover - compiled
     """:func:`path_step` (candidates in grid order) with its records given as plain tuples.
 
@@ -504,7 +453,7 @@ def path_step_from_python(
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch),
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed,
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
@@ -587,7 +536,8 @@ def run_steps(
         dd = d - d_cur
         sums = path_step(
             u, d, du, dd, True, surf, cand, bound, not moving, material,
-            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch,
+            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch, springs.claimed,
+            False,
         )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
