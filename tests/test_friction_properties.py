@@ -244,6 +244,8 @@ def test_friction_study_ensemble_on_a_flat_gives_mu0_and_the_spring_ratio() -> N
     assert np.all(count >= 1)
     ratio = spring_slider_stiffness_ratio(10.0, g_star)
     assert np.all(ds["stiffness_ratio"].values >= ratio * (1 - 1e-12))
+    # The stuck-contact interface ratio is the spring ratio exactly on a flat.
+    np.testing.assert_allclose(ds["interface_stiffness_ratio"].values, ratio, rtol=1e-12)
     assert np.all(ds["dissipation"].values > 0)
 
 

@@ -19,6 +19,7 @@ from .ensemble import confidence_halfwidth
 from .friction import (
     dilatancy,
     dissipated_energy,
+    interface_stiffness,
     normal_stiffness,
     segment_steps,
     static_friction,
@@ -32,7 +33,11 @@ FRICTION_STUDY_VARIABLES: dict[str, tuple[str, str]] = {
     "mu_s": ("1", "static friction coefficient max|F_T|/F_N while sliding at constant F_N"),
     "k_t": ("GPa", "tangential stiffness −dF_T/du_T at u_T = 0 (first increment)"),
     "k_n": ("GPa", "normal stiffness dF_N/dδ_N just before sliding (fit over 20 increments)"),
-    "stiffness_ratio": ("1", "k_T/k_N"),
+    "stiffness_ratio": ("1", "k_T/k_N of the finite differences (unstable for rough pairs)"),
+    "interface_stiffness_ratio": (
+        "1",
+        "k_T/k_N of the stuck contacts before sliding (interface_stiffness; stable)",
+    ),
     "dissipation": ("mN·µm/µm", "frictional work dissipated over one full cycle at constant F_N"),
     "dilatancy": ("µm", "rise of the upper body over the first slide at constant F_N"),
     "normal_force": ("mN/µm", "F_N held while sliding"),
@@ -117,7 +122,11 @@ def friction_study(
             material: dict[str, Any] = {"e_star": e_star, "g_star": g_star, "mu0": mu0}
             press = Segment(normal=d, steps=normal_steps)
             first = simulate(
-                lower, body, path=[press, Segment(tangential=travel / 1000, steps=1)], **material
+                lower,
+                body,
+                path=[press, Segment(tangential=travel / 1000, steps=1)],
+                record_contacts=[normal_steps],
+                **material,
             )
             force = float(first.normal_force[normal_steps])
             if not force > 0:
@@ -141,6 +150,7 @@ def friction_study(
                 "k_t": k_t,
                 "k_n": k_n,
                 "stiffness_ratio": k_t / k_n if k_n != 0 else np.nan,
+                "interface_stiffness_ratio": interface_stiffness(first, normal_steps).ratio,
                 "dissipation": dissipated_energy(result, bounds[1][1], bounds[3][1]),
                 "dilatancy": dilatancy(result, 1),
                 "normal_force": force,
