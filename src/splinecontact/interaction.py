@@ -1,0 +1,652 @@
+"""Interacting SAD: accepted contacts coupled through the elastic half-plane.
+
+SAD (paper eq. 10) gives every accepted contact an independent Hertzian line-contact force
+F_i = (π/4) E* δ_i. In plane strain the surface displacement under a loaded contact decays only
+logarithmically, so every contact lowers all the others and the body as a whole. This module
+keeps SAD's geometry (eqs. 2–9: spline, spheres, detection, Table 1, eq. 9 acceptance, local
+normals, R_eff), SAD's local law and its tangential springs (eqs. 11–13), and adds the elastic
+coupling (the "interacting Hertzian asperities" of multi-asperity models: Ciavarella, Greenwood
+& Paggi, Wear 265 (2008) 729–734; Afferrante, Carbone & Demelio, Wear 278–279 (2012) 28–33).
+
+Model (rigid displacement δ_N prescribed at every step, as in SAD)
+-------------------------------------------------------------------
+* The elastic body is the profile's segment of length L between two frictionless symmetry walls
+  (equivalently: period L_p = 2L with the mirror image of every contact), the same boundary
+  conditions as the exact reference of ``splinecontact compare``; ``periodic=True`` uses period
+  L_p = L without images. Displacements have zero mean over the period, so the mean gap is the
+  rigid one and the mean-plane lift is carried by the forces (as in :mod:`splinecontact.bem`).
+* Periodic plane-strain Green function of a line load P (the kernel of :mod:`splinecontact.bem`
+  summed in closed form): u(x) = −(2P/(πE*)) ln|2 sin(πx/L_p)|.
+* Contact j carries the Hertzian pressure of half-width a_j, a_j² = δ_j^eff R_eff,j / 2
+  (R_eff = 2/(κ^u + κ^l) as in eq. 10, so a_j² = 4 P_j R/(πE*) with R = R_eff/2), and load
+  P_j = (π/4) E* δ_j^eff (SAD's eq. 10 law, unchanged) along its repulsive direction e_j.
+* Effective approach: δ_i^eff = δ_i − e_z,i w_i, with δ_i SAD's sphere overlap (eq. 10) and w_i
+  the vertical surface displacement at contact i caused by the vertical load components
+  e_z,j P_j of all other contacts and images, plus the part of contact i's own periodic Hertz
+  displacement that SAD's local law leaves out: c P_i (ln(L_p/(π a_i)) − 3/2), c = 2/(πE*)
+  (the periodic Hertz central displacement is c P (ln(L_p/(π a)) + 1/2); SAD's law supplies
+  2 c P of it). Interaction acts along the contact normals; tangential springs are unchanged.
+* Coupling between neighbours: the displacement field of contact j is averaged over contact i
+  with the flat-punch weight 1/(π√(a_i² − (x − x_i)²)), which is the first-order load change of a
+  Hertzian contact under an imposed surface displacement (reciprocal theorem; Barber, *Contact
+  Mechanics*, Springer 2018, §5.2). For a line load at distance ρ the average is closed form,
+  ln((|ρ| + √(ρ² − a_i²))/2) (ln(a_i/2) for |ρ| ≤ a_i), and the Hertz distribution of j is
+  integrated over by Gauss–Chebyshev quadrature; the pair coefficient is symmetrised.
+* Unilateral condition: P_i ≥ 0, δ_i^eff ≥ 0 wherever P_i > 0, and a contact whose effective
+  approach would be ≤ 0 carries nothing (a linear complementarity problem at frozen widths,
+  solved by the constrained conjugate gradients of Polonsky & Keer, Wear 231 (1999) 206–219,
+  at contact level; the widths a_i are updated in an outer fixed-point loop). Every step is
+  warm-started from the previous step's loads.
+* Coalescence: contacts whose Hertz intervals [x_i − a_i, x_i + a_i] overlap form one contact
+  patch. The contact length is the length of the union of the intervals (within the segment)
+  and ``n_patches`` counts its connected pieces, in the spirit of the equivalent-spot rule of
+  Afferrante et al. (2012) (conservation of the contact area); their mutual coupling is still
+  the punch-averaged Hertz field above (saturating at ln(a_i/2) inside an overlap).
+* Cost: the far field is a particle–mesh sum — loads spread to a coarse periodic mesh with
+  linear (cloud-in-cell) weights, convolved with the Green function by FFT, read back with the
+  same weights — and pairs closer than ``NEAR_CELLS`` mesh cells are corrected to the exact
+  coefficient. One operator application costs O(N + M log M + near pairs) for N contacts on
+  M cells, independent of the number of grid points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numba
+import numpy as np
+import scipy.fft as sfft
+from numpy.typing import NDArray
+
+from .errors import NoConvergenceError, ParameterError
+
+__all__ = [
+    "DEFAULT_INTERACTION_TOLERANCE",
+    "NEAR_CELLS",
+    "InteractionSettings",
+    "interacting_loading",
+    "pair_coefficient",
+    "periodic_green",
+    "self_coefficient",
+]
+
+_QUARTER_PI = 0.25 * math.pi
+
+#: Default tolerance of the contact-level solve: largest complementarity violation / largest
+#: rigid overlap δ_i of the step [1].
+DEFAULT_INTERACTION_TOLERANCE = 1e-9
+
+#: Pairs of contacts closer than this many mesh cells get the exact coupling coefficient.
+NEAR_CELLS = 4
+
+#: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
+_QUAD_NODES = 16
+
+#: Outer (width) iterations and inner conjugate-gradient iterations per step.
+_MAX_OUTER = 50
+_MAX_INNER = 10_000
+
+
+@dataclass(frozen=True)
+class InteractionSettings:
+    """Options of the interacting solve.
+
+    Attributes
+    ----------
+    periodic : bool
+        False (default): the segment lies between two frictionless symmetry walls (period 2L with
+        mirror images, as ``splinecontact compare``); True: the profile is one period L.
+    tol : float
+        Largest complementarity violation / largest overlap of the step [1].
+    mesh_cells : int or None
+        Cells of the far-field mesh per period [1] (power of two); ``None`` chooses about one cell
+        per 128 grid spacings (at least 256).
+    """
+
+    periodic: bool = False
+    tol: float = DEFAULT_INTERACTION_TOLERANCE
+    mesh_cells: int | None = None
+
+
+# --- closed forms ---------------------------------------------------------------------------
+
+
+def periodic_green(r: NDArray[np.float64] | float, period: float, e_star: float) -> Any:
+    """Zero-mean periodic plane-strain displacement of a unit line load [µm per mN/µm].
+
+    u(r) = −(2/(πE*)) ln|2 sin(πr/L_p)|, the Fourier series 2/(E*|q|) of
+    :mod:`splinecontact.bem` summed in closed form.
+
+    Parameters
+    ----------
+    r : float or ndarray
+        Distance from the load [µm] (not a multiple of the period).
+    period : float
+        Period L_p [µm].
+    e_star : float
+        Effective modulus E* [GPa].
+    """
+    return -(2.0 / (math.pi * e_star)) * np.log(np.abs(2.0 * np.sin(np.pi * np.asarray(r) / period)))
+
+
+def self_coefficient(a: float, period: float, e_star: float) -> float:
+    """Periodic Hertz central displacement per unit load minus SAD's local compliance [µm/(mN/µm)].
+
+    c (ln(L_p/(π a)) + 1/2) − 2c with c = 2/(πE*): the part of a Hertzian line contact's own
+    displacement (half-width ``a`` [µm], period ``period`` [µm]) that eq. 10's
+    F = (π/4)E*δ does not contain.
+    """
+    c = 2.0 / (math.pi * e_star)
+    return c * (math.log(period / (math.pi * a)) - 1.5)
+
+
+@numba.njit(cache=True, nogil=True)
+def _punch_log(rho: float, a: float) -> float:  # pragma: no cover - compiled
+    """Flat-punch average of ln|x − y| over |x| ≤ a for a source at y = ρ."""
+    t = abs(rho)
+    if t <= a:
+        return math.log(0.5 * a) if a > 0.0 else -1e300
+    return math.log(0.5 * (t + math.sqrt(t * t - a * a)))
+
+
+@numba.njit(cache=True, nogil=True)
+def _pair(
+    r: float, a_t: float, a_s: float, period: float, c: float, nodes: NDArray[np.float64],
+    weights: NDArray[np.float64],
+) -> float:  # pragma: no cover - compiled
+    """Symmetrised coupling coefficient between contacts at distance r with half-widths a_t, a_s."""
+    total = 0.0
+    for k in range(nodes.size):
+        total += weights[k] * (_punch_log(r - a_s * nodes[k], a_t) + _punch_log(r - a_t * nodes[k], a_s))
+    mean_log = 0.5 * total
+    x = math.pi * r / period
+    sinc = math.sin(x) / x if x != 0.0 else 1.0
+    return -c * (mean_log + math.log(2.0 * math.pi / period) + math.log(abs(sinc)))
+
+
+def _quadrature() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Nodes t_k and weights of (2/π)∫√(1−t²) f(t) dt ≈ Σ w_k f(t_k) (weights sum to 1)."""
+    m = _QUAD_NODES
+    k = np.arange(1, m + 1)
+    theta = k * np.pi / (m + 1)
+    return np.cos(theta), (2.0 / (m + 1)) * np.sin(theta) ** 2
+
+
+def pair_coefficient(r: float, a_target: float, a_source: float, period: float, e_star: float) -> float:
+    """Vertical displacement at one contact per unit load on another [µm/(mN/µm)].
+
+    The source's Hertz field (half-width ``a_source`` [µm]) averaged over the target contact
+    (half-width ``a_target`` [µm]) with the flat-punch weight, symmetrised in the two widths,
+    in a period ``period`` [µm] at distance ``r`` [µm] (zero-mean periodic displacement).
+    """
+    nodes, weights = _quadrature()
+    return float(_pair(float(r), float(a_target), float(a_source), float(period),
+                       2.0 / (math.pi * e_star), nodes, weights))  # fmt: skip
+
+
+# --- the per-step geometric pass (SAD eqs. 7–10, Table 1, eq. 9) ----------------------------
+
+
+@numba.njit(cache=True, nogil=True)
+def _accept(
+    d: float,
+    n_active: int,
+    gap0: NDArray[np.float64],
+    kl: NDArray[np.float64],
+    ku: NDArray[np.float64],
+    mx: NDArray[np.float64],
+    mz: NDArray[np.float64],
+    nx: NDArray[np.float64],
+    nz: NDArray[np.float64],
+    dx: float,
+    out_index: NDArray[np.int64],
+    out_delta: NDArray[np.float64],
+    out_ex: NDArray[np.float64],
+    out_ez: NDArray[np.float64],
+    out_reff: NDArray[np.float64],
+    out_offset: NDArray[np.float64],
+    out_offset_z: NDArray[np.float64],
+) -> int:  # pragma: no cover - compiled
+    half_dx = 0.5 * dx
+    count = 0
+    for j in range(n_active):
+        k_l = kl[j]
+        k_u = ku[j]
+        k_sum = k_l + k_u
+        if k_sum <= 0.0:
+            continue
+        g = gap0[j] - d
+        m_x = mx[j]
+        m_z = mz[j]
+        n_x = nx[j]
+        n_z = nz[j]
+        k_prod = k_u * k_l
+        y_x = k_l * m_x + k_u * n_x
+        y_z = k_prod * g + k_l * m_z + k_u * n_z
+        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+        if y_norm <= 0.0:
+            continue
+        dmx = m_x - n_x
+        dmz = m_z - n_z
+        delta = (dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)) / (
+            y_norm + k_sum
+        )
+        if delta <= 0.0:
+            continue
+        offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
+        if not (-half_dx <= offset < half_dx):
+            continue
+        out_index[count] = j
+        out_delta[count] = delta
+        out_ex[count] = y_x / y_norm
+        out_ez[count] = y_z / y_norm
+        out_reff[count] = 2.0 / k_sum
+        out_offset[count] = offset
+        out_offset_z[count] = (
+            2.0 * dmz + delta * (k_u * n_z - k_l * m_z) + g * k_u * (2.0 - k_l * delta)
+        ) / (2.0 * y_norm)
+        count += 1
+    return count
+
+
+# --- the elastic operator -------------------------------------------------------------------
+
+
+@numba.njit(cache=True, nogil=True)
+def _near_pairs(
+    pos: NDArray[np.float64],
+    a: NDArray[np.float64],
+    n_targets: int,
+    owner: NDArray[np.int64],
+    period: float,
+    cells: int,
+    near: float,
+    mesh_green: NDArray[np.float64],
+    c: float,
+    nodes: NDArray[np.float64],
+    weights: NDArray[np.float64],
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:  # pragma: no cover
+    """CSR list of (target, source) pairs within ``near`` and their correction coefficients.
+
+    Targets are sources 0 … n_targets − 1 (the contacts); the correction replaces the mesh's
+    coupling of the pair by the exact one (the self pair by the self coefficient).
+    """
+    n_src = pos.size
+    order = np.argsort(pos)
+    sorted_pos = pos[order]
+    h = period / cells
+    start = np.zeros(n_targets + 1, dtype=np.int64)
+    # first pass: count
+    for i in range(n_targets):
+        cnt = 0
+        for shift in (-period, 0.0, period):
+            lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
+            hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
+            cnt += hi - lo
+        start[i + 1] = start[i] + cnt
+    nnz = start[n_targets]
+    src = np.empty(nnz, dtype=np.int64)
+    coef = np.empty(nnz)
+    for i in range(n_targets):
+        k = start[i]
+        xi = pos[i]
+        ci = xi / h
+        ia = int(math.floor(ci))
+        fi = ci - ia
+        for shift in (-period, 0.0, period):
+            lo = np.searchsorted(sorted_pos, xi + shift - near, side="left")
+            hi = np.searchsorted(sorted_pos, xi + shift + near, side="right")
+            for q in range(lo, hi):
+                s = order[q]
+                src[k] = s
+                # mesh coupling of the pair (linear weights at both ends)
+                cs = pos[s] / h
+                sa = int(math.floor(cs))
+                fs = cs - sa
+                mesh = 0.0
+                for da in range(2):
+                    wa = fi if da == 1 else 1.0 - fi
+                    for db in range(2):
+                        wb = fs if db == 1 else 1.0 - fs
+                        mesh += wa * wb * mesh_green[(ia + da - sa - db) % cells]
+                if s == i:
+                    exact = c * (math.log(period / (math.pi * a[i])) - 1.5)
+                else:
+                    r = xi - (pos[s] - shift)
+                    if owner[s] == i:  # own mirror image
+                        exact = _pair(r, a[i], a[i], period, c, nodes, weights)
+                    else:
+                        exact = _pair(r, a[i], a[s], period, c, nodes, weights)
+                coef[k] = exact - mesh
+                k += 1
+    return start, src, coef
+
+
+@numba.njit(cache=True, nogil=True)
+def _deposit(pos: NDArray[np.float64], q: NDArray[np.float64], cells: int, h: float) -> NDArray[np.float64]:  # pragma: no cover
+    rho = np.zeros(cells)
+    for s in range(pos.size):
+        cs = pos[s] / h
+        sa = int(math.floor(cs))
+        fs = cs - sa
+        rho[sa % cells] += (1.0 - fs) * q[s]
+        rho[(sa + 1) % cells] += fs * q[s]
+    return rho
+
+
+@numba.njit(cache=True, nogil=True)
+def _gather(
+    phi: NDArray[np.float64], pos: NDArray[np.float64], n_targets: int, h: float,
+    start: NDArray[np.int64], src: NDArray[np.int64], coef: NDArray[np.float64],
+    q: NDArray[np.float64],
+) -> NDArray[np.float64]:  # pragma: no cover
+    cells = phi.size
+    u = np.empty(n_targets)
+    for i in range(n_targets):
+        ci = pos[i] / h
+        ia = int(math.floor(ci))
+        fi = ci - ia
+        value = (1.0 - fi) * phi[ia % cells] + fi * phi[(ia + 1) % cells]
+        for k in range(start[i], start[i + 1]):
+            value += coef[k] * q[src[k]]
+        u[i] = value
+    return u
+
+
+class _Operator:
+    """Displacement at the contacts caused by contact loads: mesh far field + exact near field."""
+
+    def __init__(self, period: float, cells: int, e_star: float, mirror: bool, length_nodes: int, dx: float) -> None:
+        self.period = period
+        self.cells = cells
+        self.h = period / cells
+        self.c = 2.0 / (math.pi * e_star)
+        m = np.arange(cells, dtype=np.float64)
+        m[0] = 0.5  # the self cell: any finite value (near pairs are corrected exactly)
+        self.mesh_green = np.asarray(periodic_green(m * self.h, period, e_star), dtype=np.float64)
+        self.spectrum = sfft.rfft(self.mesh_green)
+        self.mirror = mirror
+        self.mirror_axis = (2 * length_nodes - 1) * dx
+        self.nodes, self.weights = _quadrature()
+
+    def prepare(self, x: NDArray[np.float64], a: NDArray[np.float64], ez: NDArray[np.float64]) -> None:
+        n = x.size
+        self.n = n
+        if self.mirror:
+            self.pos = np.concatenate([x, self.mirror_axis - x])
+            self.a = np.concatenate([a, a])
+            self.owner = np.concatenate([np.arange(n), np.arange(n)]).astype(np.int64)
+            self.ez_src = np.concatenate([ez, ez])
+        else:
+            self.pos = x.copy()
+            self.a = a.copy()
+            self.owner = np.arange(n, dtype=np.int64)
+            self.ez_src = ez.copy()
+        self.pos = np.mod(self.pos, self.period)
+        self.ez = ez
+        self.start, self.src, self.coef = _near_pairs(
+            self.pos, self.a, n, self.owner, self.period, self.cells, NEAR_CELLS * self.h,
+            self.mesh_green, self.c, self.nodes, self.weights,
+        )  # fmt: skip
+
+    def displacement(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
+        """w_i: vertical displacement at every contact (own far part included) from loads P."""
+        q = self.ez_src * load[self.owner]
+        rho = _deposit(self.pos, q, self.cells, self.h)
+        phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
+        return _gather(phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q)
+
+    def apply(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Total compliance C P = 2c P + e_z w(P) (SAD's local law plus the coupling)."""
+        return 2.0 * self.c * load + self.ez * self.displacement(load)
+
+
+def _pk_solve(
+    op: _Operator, delta: NDArray[np.float64], load: NDArray[np.float64], tol: float
+) -> tuple[NDArray[np.float64], int]:
+    """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
+
+    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths).
+    """
+    scale = float(delta.max())
+    p = np.clip(load, 0.0, None)
+    t = np.zeros_like(p)
+    g_norm_old = 0.0
+    conjugate = False
+    diag = 2.0 * op.c + op.ez**2 * np.maximum(op.c * (np.log(op.period / (np.pi * op.a[: op.n])) - 1.5), 0.0)
+    for iteration in range(_MAX_INNER + 1):
+        h = op.apply(p) - delta
+        loaded = p > 0.0
+        violation = np.where(loaded, np.abs(h), np.clip(-h, 0.0, None))
+        residual = float(violation.max()) / scale if violation.size else 0.0
+        if residual <= tol:
+            return p, iteration
+        if not loaded.any():
+            # nothing loaded: exact line search along the overlap −h
+            d = np.clip(-h, 0.0, None)
+            cd = op.apply(d)
+            curvature = float(d @ cd)
+            step = float(d @ d) / curvature if curvature > 0.0 else float(1.0 / diag.max())
+            p = step * d
+            conjugate = False
+            continue
+        h_loaded = np.where(loaded, h, 0.0)
+        g_norm = float(h_loaded @ h_loaded)
+        if conjugate and g_norm_old > 0.0:
+            t = h_loaded + (g_norm / g_norm_old) * t
+        else:
+            t = h_loaded.copy()
+        t[~loaded] = 0.0
+        g_norm_old = g_norm
+        r = op.apply(t)
+        denominator = float(r[loaded] @ t[loaded])
+        tau = float(h_loaded @ t) / denominator if denominator > 0.0 else float(1.0 / diag.max())
+        p = p - tau * t
+        p[p < 0.0] = 0.0
+        overlap = (p == 0.0) & (h < 0.0)
+        if overlap.any():
+            conjugate = False
+            p[overlap] = -tau * h[overlap]
+        else:
+            conjugate = True
+    raise NoConvergenceError(
+        f"the interacting contact solve did not converge in {_MAX_INNER} iterations (residual "
+        f"{residual:.3g} > tol {tol:.3g}); raise tol or use more steps"
+    )
+
+
+def _half_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float) -> NDArray[np.float64]:
+    """Hertz half-width a = √(2 P R_eff/(πE*)) = √(δ^eff R_eff/2) [µm], at least ``floor``."""
+    return np.maximum(np.sqrt(2.0 * np.clip(load, 0.0, None) * reff / (math.pi * e_star)), floor)
+
+
+def solve_contacts(
+    op: _Operator,
+    x: NDArray[np.float64],
+    delta: NDArray[np.float64],
+    ez: NDArray[np.float64],
+    reff: NDArray[np.float64],
+    initial: NDArray[np.float64],
+    e_star: float,
+    floor: float,
+    tol: float,
+) -> tuple[NDArray[np.float64], int]:
+    """Loads P_i [mN/µm] of the accepted contacts at one step (outer loop over the widths)."""
+    load = initial.copy()
+    guess = np.where(initial > 0.0, initial, _QUARTER_PI * e_star * delta)
+    a = _half_width(guess, reff, e_star, floor)
+    total = 0
+    for _ in range(_MAX_OUTER):
+        op.prepare(x, a, ez)
+        load, iterations = _pk_solve(op, delta, load, tol)
+        total += iterations
+        a_new = _half_width(load, reff, e_star, floor)
+        if np.all(np.abs(a_new - a) <= 1e-7 * np.maximum(a, floor) + 1e-12 * floor) or not np.any(load > 0):
+            return load, total
+        a = a_new
+    return load, total
+
+
+def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
+    """Length of the union of intervals [lo, hi] and the number of its connected pieces."""
+    if lo.size == 0:
+        return 0.0, 0
+    order = np.argsort(lo, kind="stable")
+    lo = lo[order]
+    hi = hi[order]
+    reach = np.maximum.accumulate(hi)
+    new = np.empty(lo.size, dtype=bool)
+    new[0] = True
+    new[1:] = lo[1:] > reach[:-1]
+    starts = np.flatnonzero(new)
+    ends = np.append(starts[1:], lo.size) - 1
+    length = float(np.sum(reach[ends] - lo[starts]))
+    return length, int(starts.size)
+
+
+def _default_cells(period_nodes: int) -> int:
+    target = max(256, period_nodes // 128)
+    return 1 << int(math.ceil(math.log2(target)))
+
+
+def interacting_loading(
+    geometry: Any,
+    *,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    n_points: int,
+    settings: InteractionSettings = InteractionSettings(),
+    record_steps: NDArray[np.int64] | None = None,
+) -> tuple[dict[str, NDArray[Any]], list[dict[str, NDArray[Any]]]]:
+    """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
+
+    Parameters
+    ----------
+    geometry : ContactGeometry
+        From :func:`splinecontact.contact.contact_geometry` (candidates, curvatures, normals,
+        displacement steps).
+    e_star : float
+        Effective modulus E* [GPa].
+    g_star : float
+        Effective shear modulus G* [GPa] (tangential springs, eq. 11).
+    mu0 : float
+        Molecular friction coefficient μ0 [1] (eqs. 12–13).
+    n_points : int
+        Grid points of the profile [1] (the segment length is n_points·dx).
+    settings : InteractionSettings
+        Boundary conditions, tolerance and mesh.
+    record_steps : array of int, optional
+        Steps at which to keep the loaded contacts.
+
+    Returns
+    -------
+    (curves, contacts)
+        Per-step arrays (the keys of :func:`splinecontact.contact.run_loading` plus
+        ``contact_length`` [µm], the union of the Hertz intervals, ``n_patches`` [1], its pieces,
+        and ``interaction_iterations`` [1]); recorded contacts as dicts of arrays per step.
+    """
+    if not (isinstance(settings.tol, float) and 0.0 < settings.tol < 1.0):
+        raise ParameterError(f"interaction tol must be in (0, 1), got {settings.tol!r}")
+    dx = float(geometry.dx)
+    n = int(n_points)
+    period_nodes = n if settings.periodic else 2 * n
+    period = period_nodes * dx
+    cells = settings.mesh_cells if settings.mesh_cells is not None else _default_cells(period_nodes)
+    if cells < 8 or cells & (cells - 1):
+        raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
+    op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
+    floor = 1e-6 * dx
+    displacement = np.asarray(geometry.displacement, dtype=np.float64)
+    n_steps = displacement.size
+    n_cand = geometry.gap0.size
+    record = np.zeros(n_steps, dtype=bool)
+    if record_steps is not None and len(record_steps):
+        record[np.asarray(record_steps)] = True
+    idx = np.empty(n_cand, dtype=np.int64)
+    delta = np.empty(n_cand)
+    ex = np.empty(n_cand)
+    ez = np.empty(n_cand)
+    reff = np.empty(n_cand)
+    offset = np.empty(n_cand)
+    offset_z = np.empty(n_cand)
+    load_all = np.zeros(n_cand)
+    tangential = np.zeros(n_cand)
+    names = ("normal_force", "tangential_force", "contact_area", "normal_force_normal_part",
+             "normal_force_tangential_part", "contact_length")  # fmt: skip
+    curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
+    for k in ("n_contacts", "n_tilted_contacts", "n_patches", "interaction_iterations"):
+        curves[k] = np.zeros(n_steps, dtype=np.int64)
+    contacts: list[dict[str, NDArray[Any]]] = []
+    point_x = np.asarray(geometry.point, dtype=np.float64) * dx
+    length = n * dx
+    for step in range(n_steps):
+        d = float(displacement[step])
+        increment = d - float(displacement[step - 1]) if step > 0 else 0.0
+        count = _accept(
+            d, int(geometry.first_step_index[step]), geometry.gap0, geometry.curvature_lower,
+            geometry.curvature_upper, geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, dx,
+            idx, delta, ex, ez, reff, offset, offset_z,
+        )  # fmt: skip
+        j = idx[:count]
+        previous = load_all[j].copy()
+        keep_tangential = tangential[j].copy()
+        load_all[:] = 0.0
+        tangential[:] = 0.0
+        if count == 0:
+            continue
+        x = point_x[j] + offset[:count]
+        load, iterations = solve_contacts(
+            op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(), previous,
+            e_star, floor, settings.tol,
+        )  # fmt: skip
+        curves["interaction_iterations"][step] = iterations
+        on = load > 0.0
+        f_n = load
+        # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
+        f_t = np.where(previous > 0.0, keep_tangential - g_star * increment * ex[:count], 0.0)
+        cap = mu0 * f_n
+        f_t = np.clip(f_t, -cap, cap)
+        f_t[~on] = 0.0
+        load_all[j] = load
+        tangential[j] = f_t
+        e_x = ex[:count]
+        e_z = ez[:count]
+        fn_part = f_n * e_z
+        ft_part = -f_t * e_x
+        curves["normal_force_normal_part"][step] = fn_part[on].sum()
+        curves["normal_force_tangential_part"][step] = ft_part[on].sum()
+        curves["normal_force"][step] = (fn_part + ft_part)[on].sum()
+        curves["tangential_force"][step] = (f_n * e_x + f_t * e_z)[on].sum()
+        delta_eff = load / (_QUARTER_PI * e_star)
+        r = reff[:count]
+        curves["contact_area"][step] = np.sqrt(delta_eff[on] * r[on]).sum()
+        curves["n_contacts"][step] = int(on.sum())
+        curves["n_tilted_contacts"][step] = int(np.sum(on & (e_z < 0.0)))
+        half = np.sqrt(0.5 * delta_eff[on] * r[on])
+        lo = np.clip(x[on] - half, 0.0, length)
+        hi = np.clip(x[on] + half, 0.0, length)
+        curves["contact_length"][step], curves["n_patches"][step] = _union_length(lo, hi)
+        if record[step]:
+            contacts.append(
+                {
+                    "step": np.full(int(on.sum()), step),
+                    "index": j[on],
+                    "x": x[on],
+                    "overlap": delta_eff[on],
+                    "rigid_overlap": delta[:count][on],
+                    "effective_radius": r[on],
+                    "normal_force": f_n[on],
+                    "tangential_force": f_t[on],
+                    "normal_x": e_x[on],
+                    "normal_z": e_z[on],
+                    "offset_z": offset_z[:count][on],
+                }
+            )
+    curves["displacement"] = displacement
+    curves["tangential_displacement"] = np.zeros_like(displacement)
+    curves["mean_separation"] = geometry.mean_gap0 - displacement
+    curves["n_candidates"] = np.asarray(geometry.first_step_index).copy()
+    return curves, contacts
