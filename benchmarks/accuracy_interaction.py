@@ -31,7 +31,7 @@ from splinecontact import Profile, bem
 from splinecontact.compare import _solve_in_substeps
 from splinecontact.contact import contact_geometry, run_loading
 from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-from splinecontact.interaction import InteractionSettings, interacting_loading
+from splinecontact.interaction import InteractionSettings, extended_geometry, interacting_loading
 from splinecontact.spline import fit_spline
 
 E_STAR = 10.0
@@ -88,7 +88,9 @@ def realization(d: float, seed: int, pair: bool, cache: Path, n_points: int, mes
     t0 = time.process_time()
     sad, _ = run_loading(geo, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
     t1 = time.process_time()
-    inter, _ = interacting_loading(geo, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3,
+    geo_x, _ = extended_geometry(lower, upper, steps=1000, final_displacement=None,
+                                 final_displacement_factor=0.2, alpha=2.0, x0=1.0)  # fmt: skip
+    inter, _ = interacting_loading(geo_x, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3,
                                    n_points=lower.n_points,
                                    settings=InteractionSettings(mesh_cells=mesh))  # fmt: skip
     t2 = time.process_time()
@@ -110,6 +112,7 @@ def realization(d: float, seed: int, pair: bool, cache: Path, n_points: int, mes
         "bem_length": exact["length"],
         "bem_gap": exact["gap"],
         "bem_patches": exact["patches"],
+        "reach_exceeded": np.array(int(inter["reach_exceeded"].sum())),
         "cpu_sad": np.array(t1 - t0),
         "cpu_int": np.array(t2 - t1),
         "cpu_bem": np.array(t3 - t2),
@@ -147,7 +150,8 @@ def main() -> None:
                 f"{np.median(r['sad_sep'] / r['bem_gap']):.3f}; patches exact/int "
                 f"{np.median(r['bem_patches'] / np.maximum(r['int_patches'], 1)):.2f}, int contacts/patches "
                 f"{np.median(r['int_n'] / np.maximum(r['int_patches'], 1)):.2f}; CPU s: SAD {float(r['cpu_sad']):.2f}, "
-                f"interacting {float(r['cpu_int']):.2f}, BEM {float(r['cpu_bem']):.1f}",
+                f"interacting {float(r['cpu_int']):.2f}, BEM {float(r['cpu_bem']):.1f}; reach exceeded at "
+                f"{int(r['reach_exceeded'])} steps",
                 flush=True,
             )
     print("\nD | interacting length/exact median (p5–p95) | mean gap/exact median (p5–p95) | "

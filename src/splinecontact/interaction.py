@@ -52,15 +52,17 @@ Model (rigid displacement δ_N prescribed at every step, as in SAD)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import Any, Literal
 
 import numba
 import numpy as np
 import scipy.fft as sfft
 from numpy.typing import NDArray
 
+from .contact import ContactGeometry, contact_geometry
 from .errors import NoConvergenceError, ParameterError
+from .profile import Profile
 
 __all__ = [
     "DEFAULT_INTERACTION_TOLERANCE",
@@ -78,8 +80,15 @@ _QUARTER_PI = 0.25 * math.pi
 #: rigid overlap δ_i of the step [1].
 DEFAULT_INTERACTION_TOLERANCE = 1e-9
 
+#: Default reach of the candidate set beyond the final displacement, as a fraction of it [1].
+DEFAULT_REACH = 1.0
+
 #: Pairs of contacts closer than this many mesh cells get the exact coupling coefficient.
 NEAR_CELLS = 4
+
+#: Safety factor on the largest uplift of the surface (the most negative mesh displacement) of
+#: the previous step: summits whose rigid gap is below it are tested for contact [1].
+UPLIFT_FACTOR = 1.5
 
 #: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
 _QUAD_NODES = 16
@@ -108,6 +117,7 @@ class InteractionSettings:
     periodic: bool = False
     tol: float = DEFAULT_INTERACTION_TOLERANCE
     mesh_cells: int | None = None
+    width: str = "profile"
 
 
 # --- closed forms ---------------------------------------------------------------------------
@@ -192,6 +202,7 @@ def pair_coefficient(r: float, a_target: float, a_source: float, period: float, 
 @numba.njit(cache=True, nogil=True)
 def _accept(
     d: float,
+    delta_min: float,
     n_active: int,
     gap0: NDArray[np.float64],
     kl: NDArray[np.float64],
@@ -233,7 +244,7 @@ def _accept(
         delta = (dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)) / (
             y_norm + k_sum
         )
-        if delta <= 0.0:
+        if delta <= delta_min:
             continue
         offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
         if not (-half_dx <= offset < half_dx):
@@ -396,6 +407,7 @@ class _Operator:
         q = self.ez_src * load[self.owner]
         rho = _deposit(self.pos, q, self.cells, self.h)
         phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
+        self.phi = phi
         return _gather(phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q)
 
     def apply(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -411,6 +423,8 @@ def _pk_solve(
     Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths).
     """
     scale = float(delta.max())
+    if scale <= 0.0:
+        return np.zeros_like(delta), 0
     p = np.clip(load, 0.0, None)
     t = np.zeros_like(p)
     g_norm_old = 0.0
@@ -457,9 +471,103 @@ def _pk_solve(
     )
 
 
-def _half_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float) -> NDArray[np.float64]:
+def _hertz_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float) -> NDArray[np.float64]:
     """Hertz half-width a = √(2 P R_eff/(πE*)) = √(δ^eff R_eff/2) [µm], at least ``floor``."""
     return np.maximum(np.sqrt(2.0 * np.clip(load, 0.0, None) * reff / (math.pi * e_star)), floor)
+
+
+@numba.njit(cache=True, nogil=True)
+def _punch_load(
+    slope: NDArray[np.float64], x_c: float, dx: float, a: float, e_star: float,
+    sines: NDArray[np.float64], weights: NDArray[np.float64],
+) -> float:  # pragma: no cover - compiled
+    """Load [mN/µm] of a 2D frictionless punch of the local gap profile at half-width a.
+
+    P(a) = (E*/2) ∫_{−a}^{a} s f′(x_c + s) / √(a² − s²) ds (symmetric contact about x_c; Hertz
+    for a parabola), with s = a sin θ and Gauss–Legendre nodes in θ. NaN beyond the candidates.
+    """
+    n = slope.size
+    total = 0.0
+    for k in range(sines.size):
+        s = a * sines[k]
+        pos = (x_c + s) / dx
+        i0 = int(math.floor(pos))
+        if i0 < 0 or i0 + 1 >= n:
+            return math.nan
+        frac = pos - i0
+        v = slope[i0] * (1.0 - frac) + slope[i0 + 1] * frac
+        if math.isnan(v):
+            return math.nan
+        total += weights[k] * s * v
+    return 0.5 * e_star * total
+
+
+@numba.njit(cache=True, nogil=True)
+def _profile_widths(
+    load: NDArray[np.float64], a_hertz: NDArray[np.float64], x: NDArray[np.float64],
+    slope: NDArray[np.float64], dx: float, e_star: float, floor: float,
+    sines: NDArray[np.float64], weights: NDArray[np.float64],
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Half-widths at which the punch load of the local profile equals each contact's load."""
+    out = np.empty(load.size)
+    for i in range(load.size):
+        target = load[i]
+        if target <= 0.0 or a_hertz[i] < 2.0 * dx:
+            out[i] = a_hertz[i]
+            continue
+        lo = 0.0
+        hi = a_hertz[i]
+        valid = hi
+        found = False
+        for _ in range(60):
+            value = _punch_load(slope, x[i], dx, hi, e_star, sines, weights)
+            if math.isnan(value):
+                break
+            valid = hi
+            if value >= target:
+                found = True
+                break
+            lo = hi
+            hi *= 1.5
+        if not found:
+            hi = valid
+            # NaN (beyond the candidates) or no root: keep the last valid width
+            if math.isnan(_punch_load(slope, x[i], dx, hi, e_star, sines, weights)):
+                out[i] = max(lo, floor)
+                continue
+            out[i] = hi
+            continue
+        for _ in range(50):
+            mid = 0.5 * (lo + hi)
+            value = _punch_load(slope, x[i], dx, mid, e_star, sines, weights)
+            if math.isnan(value) or value >= target:
+                hi = mid
+            else:
+                lo = mid
+            if hi - lo <= 1e-9 * hi:
+                break
+        out[i] = max(0.5 * (lo + hi), floor)
+    return out
+
+
+class _Widths:
+    """Contact half-widths from the loads: Hertz (tip curvature) or the local punch profile."""
+
+    def __init__(self, slope: NDArray[np.float64] | None, dx: float, e_star: float, floor: float) -> None:
+        self.slope = slope
+        self.dx = dx
+        self.e_star = e_star
+        self.floor = floor
+        nodes, weights = np.polynomial.legendre.leggauss(32)
+        self.sines = np.sin(0.5 * np.pi * nodes)
+        self.weights = 0.5 * np.pi * weights
+
+    def __call__(self, load: NDArray[np.float64], reff: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
+        a = _hertz_width(load, reff, self.e_star, self.floor)
+        if self.slope is None:
+            return a
+        return _profile_widths(load, a, x, self.slope, self.dx, self.e_star, self.floor,
+                               self.sines, self.weights)  # fmt: skip
 
 
 def solve_contacts(
@@ -470,23 +578,27 @@ def solve_contacts(
     reff: NDArray[np.float64],
     initial: NDArray[np.float64],
     e_star: float,
-    floor: float,
+    widths: _Widths,
     tol: float,
-) -> tuple[NDArray[np.float64], int]:
-    """Loads P_i [mN/µm] of the accepted contacts at one step (outer loop over the widths)."""
+) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
+    """Loads P_i [mN/µm] and half-widths [µm] of the accepted contacts at one step.
+
+    Outer loop over the widths (frozen in each constrained-CG solve).
+    """
+    floor = widths.floor
     load = initial.copy()
     guess = np.where(initial > 0.0, initial, _QUARTER_PI * e_star * delta)
-    a = _half_width(guess, reff, e_star, floor)
+    a = widths(guess, reff, x)
     total = 0
     for _ in range(_MAX_OUTER):
         op.prepare(x, a, ez)
         load, iterations = _pk_solve(op, delta, load, tol)
         total += iterations
-        a_new = _half_width(load, reff, e_star, floor)
+        a_new = widths(load, reff, x)
         if np.all(np.abs(a_new - a) <= 1e-7 * np.maximum(a, floor) + 1e-12 * floor) or not np.any(load > 0):
-            return load, total
+            return load, a_new, total
         a = a_new
-    return load, total
+    return load, a, total
 
 
 def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
@@ -504,6 +616,40 @@ def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[flo
     ends = np.append(starts[1:], lo.size) - 1
     length = float(np.sum(reach[ends] - lo[starts]))
     return length, int(starts.size)
+
+
+def extended_geometry(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    *,
+    steps: int,
+    final_displacement: float | None,
+    final_displacement_factor: float,
+    alpha: float,
+    x0: float,
+    reach: float = DEFAULT_REACH,
+) -> tuple[ContactGeometry, dict[str, float]]:
+    """SAD geometry whose candidate set reaches beyond the last displacement.
+
+    In the coupled body the surface between loaded contacts rises (the displacement has zero
+    mean), so summits whose rigid gap is still open can touch. The candidates are those whose gap
+    closes by (1 + ``reach``) × the final displacement; the displacement steps are SAD's,
+    δ_N = final · k / steps. Parameters as :func:`splinecontact.contact.contact_geometry`;
+    ``reach`` [1] ≥ 0.
+    """
+    if not (isinstance(reach, (int, float)) and math.isfinite(reach) and reach >= 0.0):
+        raise ParameterError(f"reach must be a finite number ≥ 0, got {reach!r}")
+    final = (
+        final_displacement_factor * lower.peak_to_valley
+        if final_displacement is None
+        else float(final_displacement)
+    )
+    geometry, stats = contact_geometry(
+        lower, upper, steps=steps, final_displacement=final * (1.0 + reach),
+        final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
+    )  # fmt: skip
+    displacement = final * np.arange(steps + 1) / steps
+    return replace(geometry, displacement=displacement), stats
 
 
 def _default_cells(period_nodes: int) -> int:
@@ -559,6 +705,14 @@ def interacting_loading(
         raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
     op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
     floor = 1e-6 * dx
+    if settings.width not in ("profile", "hertz"):
+        raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
+    slope = None
+    if settings.width == "profile":
+        gap_full = np.full(n, np.nan)
+        gap_full[np.asarray(geometry.point)] = geometry.gap0
+        slope = np.gradient(gap_full, dx) if n > 2 else None
+    widths = _Widths(slope, dx, e_star, floor)
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
     n_cand = geometry.gap0.size
@@ -577,16 +731,25 @@ def interacting_loading(
     names = ("normal_force", "tangential_force", "contact_area", "normal_force_normal_part",
              "normal_force_tangential_part", "contact_length")  # fmt: skip
     curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
-    for k in ("n_contacts", "n_tilted_contacts", "n_patches", "interaction_iterations"):
+    for k in ("n_contacts", "n_tilted_contacts", "n_patches", "interaction_iterations",
+              "reach_exceeded"):  # fmt: skip
         curves[k] = np.zeros(n_steps, dtype=np.int64)
     contacts: list[dict[str, NDArray[Any]]] = []
     point_x = np.asarray(geometry.point, dtype=np.float64) * dx
     length = n * dx
+    # candidates in order of closing; the reach of the candidate set is its largest gap
+    closing_gap = np.maximum.accumulate(np.asarray(geometry.gap0, dtype=np.float64))
+    reach = float(closing_gap[-1]) if closing_gap.size else 0.0
+    margin = 0.0
     for step in range(n_steps):
         d = float(displacement[step])
         increment = d - float(displacement[step - 1]) if step > 0 else 0.0
+        threshold = d + margin
+        if threshold > reach:
+            curves["reach_exceeded"][step] = 1
+        n_active = int(np.searchsorted(closing_gap, threshold, side="right"))
         count = _accept(
-            d, int(geometry.first_step_index[step]), geometry.gap0, geometry.curvature_lower,
+            d, -margin, n_active, geometry.gap0, geometry.curvature_lower,
             geometry.curvature_upper, geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, dx,
             idx, delta, ex, ez, reff, offset, offset_z,
         )  # fmt: skip
@@ -598,11 +761,14 @@ def interacting_loading(
         if count == 0:
             continue
         x = point_x[j] + offset[:count]
-        load, iterations = solve_contacts(
+        load, a, iterations = solve_contacts(
             op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(), previous,
-            e_star, floor, settings.tol,
+            e_star, widths, settings.tol,
         )  # fmt: skip
         curves["interaction_iterations"][step] = iterations
+        if np.any(load > 0.0):
+            op.displacement(load)
+            margin = UPLIFT_FACTOR * max(0.0, -float(op.phi.min()))
         on = load > 0.0
         f_n = load
         # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
@@ -625,7 +791,7 @@ def interacting_loading(
         curves["contact_area"][step] = np.sqrt(delta_eff[on] * r[on]).sum()
         curves["n_contacts"][step] = int(on.sum())
         curves["n_tilted_contacts"][step] = int(np.sum(on & (e_z < 0.0)))
-        half = np.sqrt(0.5 * delta_eff[on] * r[on])
+        half = a[on]
         lo = np.clip(x[on] - half, 0.0, length)
         hi = np.clip(x[on] + half, 0.0, length)
         curves["contact_length"][step], curves["n_patches"][step] = _union_length(lo, hi)
