@@ -477,77 +477,103 @@ def _hertz_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: f
 
 
 @numba.njit(cache=True, nogil=True)
-def _punch_load(
-    slope: NDArray[np.float64], x_c: float, dx: float, a: float, e_star: float,
-    sines: NDArray[np.float64], weights: NDArray[np.float64],
-) -> float:  # pragma: no cover - compiled
-    """Load [mN/µm] of a 2D frictionless punch of the local gap profile at half-width a.
+def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pragma: no cover
+    """Linear interpolation of a grid array at position ``pos`` [µm]; NaN outside it."""
+    t = pos / dx
+    i0 = int(math.floor(t))
+    if i0 < 0 or i0 + 1 >= values.size:
+        return math.nan
+    frac = t - i0
+    return values[i0] * (1.0 - frac) + values[i0 + 1] * frac
 
-    P(a) = (E*/2) ∫_{−a}^{a} s f′(x_c + s) / √(a² − s²) ds (symmetric contact about x_c; Hertz
-    for a parabola), with s = a sin θ and Gauss–Legendre nodes in θ. NaN beyond the candidates.
+
+@numba.njit(cache=True, nogil=True)
+def _punch(
+    slope: NDArray[np.float64], curvature: NDArray[np.float64], x: float, dx: float, b: float,
+    c: float, e_star: float, sines: NDArray[np.float64], weights: NDArray[np.float64],
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
+
+    The contact [x + c − b, x + c + b] of a rigid profile with gap slope f′ has bounded pressure
+    at both edges when ∫ f′(x + c + s)/√(b² − s²) ds = 0 (solved for c by Newton's method),
+    and then carries P = (E*/2) ∫ s f′(x + c + s)/√(b² − s²) ds (Hertz for a parabola; the
+    plane-strain punch relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with
+    s = b sin θ and Gauss–Legendre nodes in θ. Returns (c, P), NaN beyond the candidates.
     """
-    n = slope.size
+    for _ in range(20):
+        i0 = 0.0
+        i1 = 0.0
+        for k in range(sines.size):
+            pos = x + c + b * sines[k]
+            v = _sample(slope, pos, dx)
+            w = _sample(curvature, pos, dx)
+            if math.isnan(v) or math.isnan(w):
+                return math.nan, math.nan
+            i0 += weights[k] * v
+            i1 += weights[k] * w
+        if i1 <= 0.0:
+            break
+        dc = -i0 / i1
+        if dc > 0.5 * b:
+            dc = 0.5 * b
+        elif dc < -0.5 * b:
+            dc = -0.5 * b
+        c += dc
+        if abs(dc) <= 1e-9 * b:
+            break
     total = 0.0
     for k in range(sines.size):
-        s = a * sines[k]
-        pos = (x_c + s) / dx
-        i0 = int(math.floor(pos))
-        if i0 < 0 or i0 + 1 >= n:
-            return math.nan
-        frac = pos - i0
-        v = slope[i0] * (1.0 - frac) + slope[i0 + 1] * frac
+        s = b * sines[k]
+        v = _sample(slope, x + c + s, dx)
         if math.isnan(v):
-            return math.nan
+            return math.nan, math.nan
         total += weights[k] * s * v
-    return 0.5 * e_star * total
+    return c, 0.5 * e_star * total
 
 
 @numba.njit(cache=True, nogil=True)
 def _profile_widths(
     load: NDArray[np.float64], a_hertz: NDArray[np.float64], x: NDArray[np.float64],
-    slope: NDArray[np.float64], dx: float, e_star: float, floor: float,
+    b_start: NDArray[np.float64], c_start: NDArray[np.float64], slope: NDArray[np.float64],
+    curvature: NDArray[np.float64], dx: float, e_star: float,
     sines: NDArray[np.float64], weights: NDArray[np.float64],
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Half-widths at which the punch load of the local profile equals each contact's load."""
-    out = np.empty(load.size)
-    for i in range(load.size):
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """Half-widths and centre shifts at which each contact's punch load equals its load.
+
+    Secant iteration in log b (exact in one step for a parabola), warm-started from
+    ``b_start``/``c_start``; contacts narrower than two grid spacings, or reaching beyond the
+    candidates, keep the Hertz width and no shift.
+    """
+    n = load.size
+    out_b = a_hertz.copy()
+    out_c = np.zeros(n)
+    for i in range(n):
         target = load[i]
         if target <= 0.0 or a_hertz[i] < 2.0 * dx:
-            out[i] = a_hertz[i]
             continue
-        lo = 0.0
-        hi = a_hertz[i]
-        valid = hi
-        found = False
-        for _ in range(60):
-            value = _punch_load(slope, x[i], dx, hi, e_star, sines, weights)
-            if math.isnan(value):
+        b = b_start[i] if b_start[i] > 0.0 else a_hertz[i]
+        c = c_start[i]
+        b_old = 0.0
+        p_old = 0.0
+        ok = False
+        for _ in range(40):
+            c, p = _punch(slope, curvature, x[i], dx, b, c, e_star, sines, weights)
+            if math.isnan(p) or p <= 0.0:
                 break
-            valid = hi
-            if value >= target:
-                found = True
+            if abs(p / target - 1.0) <= 1e-7:
+                ok = True
                 break
-            lo = hi
-            hi *= 1.5
-        if not found:
-            hi = valid
-            # NaN (beyond the candidates) or no root: keep the last valid width
-            if math.isnan(_punch_load(slope, x[i], dx, hi, e_star, sines, weights)):
-                out[i] = max(lo, floor)
-                continue
-            out[i] = hi
-            continue
-        for _ in range(50):
-            mid = 0.5 * (lo + hi)
-            value = _punch_load(slope, x[i], dx, mid, e_star, sines, weights)
-            if math.isnan(value) or value >= target:
-                hi = mid
-            else:
-                lo = mid
-            if hi - lo <= 1e-9 * hi:
-                break
-        out[i] = max(0.5 * (lo + hi), floor)
-    return out
+            m = 2.0
+            if b_old > 0.0 and p_old > 0.0 and b_old != b and p_old != p:
+                m = math.log(p / p_old) / math.log(b / b_old)
+                m = min(max(m, 0.5), 4.0)
+            b_old = b
+            p_old = p
+            b = b * (target / p) ** (1.0 / m)
+        if ok:
+            out_b[i] = b
+            out_c[i] = c
+    return out_b, out_c
 
 
 class _Widths:
@@ -555,6 +581,7 @@ class _Widths:
 
     def __init__(self, slope: NDArray[np.float64] | None, dx: float, e_star: float, floor: float) -> None:
         self.slope = slope
+        self.curvature = None if slope is None else np.gradient(slope, dx)
         self.dx = dx
         self.e_star = e_star
         self.floor = floor
@@ -562,12 +589,16 @@ class _Widths:
         self.sines = np.sin(0.5 * np.pi * nodes)
         self.weights = 0.5 * np.pi * weights
 
-    def __call__(self, load: NDArray[np.float64], reff: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def __call__(
+        self, load: NDArray[np.float64], reff: NDArray[np.float64], x: NDArray[np.float64],
+        b_start: NDArray[np.float64], c_start: NDArray[np.float64],
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         a = _hertz_width(load, reff, self.e_star, self.floor)
-        if self.slope is None:
-            return a
-        return _profile_widths(load, a, x, self.slope, self.dx, self.e_star, self.floor,
-                               self.sines, self.weights)  # fmt: skip
+        if self.slope is None or self.curvature is None:
+            return a, np.zeros_like(a)
+        b, c = _profile_widths(load, a, x, b_start, c_start, self.slope, self.curvature,
+                               self.dx, self.e_star, self.sines, self.weights)  # fmt: skip
+        return np.maximum(b, self.floor), c
 
 
 def solve_contacts(
@@ -577,28 +608,32 @@ def solve_contacts(
     ez: NDArray[np.float64],
     reff: NDArray[np.float64],
     initial: NDArray[np.float64],
+    b_start: NDArray[np.float64],
+    c_start: NDArray[np.float64],
     e_star: float,
     widths: _Widths,
     tol: float,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
-    """Loads P_i [mN/µm] and half-widths [µm] of the accepted contacts at one step.
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
+    """Loads P_i [mN/µm], half-widths and centre shifts [µm] of the contacts at one step.
 
-    Outer loop over the widths (frozen in each constrained-CG solve).
+    Outer loop over the widths and centres (frozen in each constrained-CG solve).
     """
     floor = widths.floor
     load = initial.copy()
-    guess = np.where(initial > 0.0, initial, _QUARTER_PI * e_star * delta)
-    a = widths(guess, reff, x)
+    guess = np.where(initial > 0.0, initial, _QUARTER_PI * e_star * np.clip(delta, 0.0, None))
+    a, c = widths(guess, reff, x, b_start, c_start)
     total = 0
     for _ in range(_MAX_OUTER):
-        op.prepare(x, a, ez)
+        op.prepare(x + c, a, ez)
         load, iterations = _pk_solve(op, delta, load, tol)
         total += iterations
-        a_new = widths(load, reff, x)
-        if np.all(np.abs(a_new - a) <= 1e-7 * np.maximum(a, floor) + 1e-12 * floor) or not np.any(load > 0):
-            return load, a_new, total
-        a = a_new
-    return load, a, total
+        a_new, c_new = widths(load, reff, x, a, c)
+        if not np.any(load > 0) or np.all(
+            np.abs(a_new - a) + np.abs(c_new - c) <= 1e-7 * np.maximum(a, floor) + 1e-12 * floor
+        ):
+            return load, a_new, c_new, total
+        a, c = a_new, c_new
+    return load, a, c, total
 
 
 def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
@@ -728,6 +763,8 @@ def interacting_loading(
     offset_z = np.empty(n_cand)
     load_all = np.zeros(n_cand)
     tangential = np.zeros(n_cand)
+    width_all = np.zeros(n_cand)
+    shift_all = np.zeros(n_cand)
     names = ("normal_force", "tangential_force", "contact_area", "normal_force_normal_part",
              "normal_force_tangential_part", "contact_length")  # fmt: skip
     curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
@@ -761,10 +798,15 @@ def interacting_loading(
         if count == 0:
             continue
         x = point_x[j] + offset[:count]
-        load, a, iterations = solve_contacts(
+        load, a, shift, iterations = solve_contacts(
             op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(), previous,
-            e_star, widths, settings.tol,
+            width_all[j], shift_all[j], e_star, widths, settings.tol,
         )  # fmt: skip
+        width_all[:] = 0.0
+        shift_all[:] = 0.0
+        width_all[j] = np.where(load > 0.0, a, 0.0)
+        shift_all[j] = np.where(load > 0.0, shift, 0.0)
+        x = x + shift
         curves["interaction_iterations"][step] = iterations
         if np.any(load > 0.0):
             op.displacement(load)
