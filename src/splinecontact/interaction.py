@@ -78,7 +78,7 @@ _QUARTER_PI = 0.25 * math.pi
 
 #: Default tolerance of the contact-level solve: largest complementarity violation / largest
 #: rigid overlap δ_i of the step [1].
-DEFAULT_INTERACTION_TOLERANCE = 1e-9
+DEFAULT_INTERACTION_TOLERANCE = 1e-6
 
 #: Default reach of the candidate set beyond the final displacement, as a fraction of it [1].
 DEFAULT_REACH = 1.0
@@ -90,8 +90,16 @@ NEAR_CELLS = 4
 #: the previous step: summits whose rigid gap is below it are tested for contact [1].
 UPLIFT_FACTOR = 1.5
 
+#: Pairs closer than this many times the largest contact half-width are also near pairs (their
+#: displacement gradients shape each other's contact) [1].
+NEAR_WIDTHS = 6.0
+
 #: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
 _QUAD_NODES = 16
+
+#: Relative change of the contact widths and centres at which the outer loop stops [1]
+#: (widths enter the coupling through logarithms only).
+WIDTH_TOLERANCE = 1e-4
 
 #: Outer (width) iterations and inner conjugate-gradient iterations per step.
 _MAX_OUTER = 50
@@ -397,8 +405,10 @@ class _Operator:
             self.ez_src = ez.copy()
         self.pos = np.mod(self.pos, self.period)
         self.ez = ez
+        largest = float(a.max()) if a.size else 0.0
+        near = min(max(NEAR_CELLS * self.h, NEAR_WIDTHS * largest), 0.25 * self.period)
         self.start, self.src, self.coef = _near_pairs(
-            self.pos, self.a, n, self.owner, self.period, self.cells, NEAR_CELLS * self.h,
+            self.pos, self.a, n, self.owner, self.period, self.cells, near,
             self.mesh_green, self.c, self.nodes, self.weights,
         )  # fmt: skip
 
@@ -488,9 +498,35 @@ def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pra
 
 
 @numba.njit(cache=True, nogil=True)
+def _neighbour_slope(
+    pos: float, first: int, last: int, src: NDArray[np.int64], src_pos: NDArray[np.float64],
+    src_a: NDArray[np.float64], src_q: NDArray[np.float64], own: int, period: float, c0: float,
+) -> float:  # pragma: no cover - compiled
+    """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``."""
+    total = 0.0
+    for k in range(first, last):
+        s = src[k]
+        q = src_q[s]
+        if s == own or q == 0.0:
+            continue
+        r = pos - src_pos[s]
+        r -= period * math.floor(r / period + 0.5)
+        a = src_a[s]
+        t = abs(r)
+        if t <= a:
+            g = r
+        else:
+            g = r - math.copysign(math.sqrt(t * t - a * a), r)
+        total -= 2.0 * c0 * q * g / (a * a)
+    return total
+
+
+@numba.njit(cache=True, nogil=True)
 def _punch(
     slope: NDArray[np.float64], curvature: NDArray[np.float64], x: float, dx: float, b: float,
     c: float, e_star: float, sines: NDArray[np.float64], weights: NDArray[np.float64],
+    first: int, last: int, src: NDArray[np.int64], src_pos: NDArray[np.float64],
+    src_a: NDArray[np.float64], src_q: NDArray[np.float64], own: int, period: float,
 ) -> tuple[float, float]:  # pragma: no cover - compiled
     """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
 
@@ -500,12 +536,15 @@ def _punch(
     plane-strain punch relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with
     s = b sin θ and Gauss–Legendre nodes in θ. Returns (c, P), NaN beyond the candidates.
     """
+    c0 = 2.0 / (math.pi * e_star)
     for _ in range(20):
         i0 = 0.0
         i1 = 0.0
         for k in range(sines.size):
             pos = x + c + b * sines[k]
-            v = _sample(slope, pos, dx)
+            v = _sample(slope, pos, dx) + _neighbour_slope(
+                pos, first, last, src, src_pos, src_a, src_q, own, period, c0
+            )
             w = _sample(curvature, pos, dx)
             if math.isnan(v) or math.isnan(w):
                 return math.nan, math.nan
@@ -524,7 +563,10 @@ def _punch(
     total = 0.0
     for k in range(sines.size):
         s = b * sines[k]
-        v = _sample(slope, x + c + s, dx)
+        pos = x + c + s
+        v = _sample(slope, pos, dx) + _neighbour_slope(
+            pos, first, last, src, src_pos, src_a, src_q, own, period, c0
+        )
         if math.isnan(v):
             return math.nan, math.nan
         total += weights[k] * s * v
@@ -536,7 +578,9 @@ def _profile_widths(
     load: NDArray[np.float64], a_hertz: NDArray[np.float64], x: NDArray[np.float64],
     b_start: NDArray[np.float64], c_start: NDArray[np.float64], slope: NDArray[np.float64],
     curvature: NDArray[np.float64], dx: float, e_star: float,
-    sines: NDArray[np.float64], weights: NDArray[np.float64],
+    sines: NDArray[np.float64], weights: NDArray[np.float64], start: NDArray[np.int64],
+    src: NDArray[np.int64], src_pos: NDArray[np.float64], src_a: NDArray[np.float64],
+    src_q: NDArray[np.float64], period: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
     """Half-widths and centre shifts at which each contact's punch load equals its load.
 
@@ -547,6 +591,7 @@ def _profile_widths(
     n = load.size
     out_b = a_hertz.copy()
     out_c = np.zeros(n)
+    x_sorted = np.sort(x)
     for i in range(n):
         target = load[i]
         if target <= 0.0 or a_hertz[i] < 2.0 * dx:
@@ -557,10 +602,11 @@ def _profile_widths(
         p_old = 0.0
         ok = False
         for _ in range(40):
-            c, p = _punch(slope, curvature, x[i], dx, b, c, e_star, sines, weights)
+            c, p = _punch(slope, curvature, x[i], dx, b, c, e_star, sines, weights, start[i],
+                          start[i + 1], src, src_pos, src_a, src_q, i, period)
             if math.isnan(p) or p <= 0.0:
                 break
-            if abs(p / target - 1.0) <= 1e-7:
+            if abs(p / target - 1.0) <= 1e-6:
                 ok = True
                 break
             m = 2.0
@@ -571,8 +617,20 @@ def _profile_widths(
             p_old = p
             b = b * (target / p) ** (1.0 / m)
         if ok:
+            # a punch that reaches over another contact's summit is not this contact's
+            # solution (it would bridge the valley between them): keep the previous one
+            centre = x[i] + c
+            inside = np.searchsorted(x_sorted, centre + b) - np.searchsorted(x_sorted, centre - b)
+            if abs(x[i] - centre) < b:
+                inside -= 1
+            if inside > 0:
+                ok = False
+        if ok:
             out_b[i] = b
             out_c[i] = c
+        elif b_start[i] > 0.0:
+            out_b[i] = b_start[i]
+            out_c[i] = c_start[i]
     return out_b, out_c
 
 
@@ -591,13 +649,23 @@ class _Widths:
 
     def __call__(
         self, load: NDArray[np.float64], reff: NDArray[np.float64], x: NDArray[np.float64],
-        b_start: NDArray[np.float64], c_start: NDArray[np.float64],
+        b_start: NDArray[np.float64], c_start: NDArray[np.float64], op: _Operator | None = None,
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         a = _hertz_width(load, reff, self.e_star, self.floor)
         if self.slope is None or self.curvature is None:
             return a, np.zeros_like(a)
+        if op is None:  # no neighbours known yet
+            start = np.zeros(load.size + 1, dtype=np.int64)
+            src = np.zeros(0, dtype=np.int64)
+            src_pos = src_a = src_q = np.zeros(1)
+            period = 1.0
+        else:
+            start, src, src_pos, src_a = op.start, op.src, op.pos, op.a
+            src_q = op.ez_src * load[op.owner]
+            period = op.period
         b, c = _profile_widths(load, a, x, b_start, c_start, self.slope, self.curvature,
-                               self.dx, self.e_star, self.sines, self.weights)  # fmt: skip
+                               self.dx, self.e_star, self.sines, self.weights, start, src,
+                               src_pos, src_a, src_q, period)  # fmt: skip
         return np.maximum(b, self.floor), c
 
 
@@ -627,9 +695,9 @@ def solve_contacts(
         op.prepare(x + c, a, ez)
         load, iterations = _pk_solve(op, delta, load, tol)
         total += iterations
-        a_new, c_new = widths(load, reff, x, a, c)
+        a_new, c_new = widths(load, reff, x, a, c, op)
         if not np.any(load > 0) or np.all(
-            np.abs(a_new - a) + np.abs(c_new - c) <= 1e-7 * np.maximum(a, floor) + 1e-12 * floor
+            np.abs(a_new - a) + np.abs(c_new - c) <= WIDTH_TOLERANCE * np.maximum(a, floor)
         ):
             return load, a_new, c_new, total
         a, c = a_new, c_new
