@@ -94,6 +94,9 @@ UPLIFT_FACTOR = 1.5
 #: displacement gradients shape each other's contact) [1].
 NEAR_WIDTHS = 6.0
 
+#: Contacts with a Hertz half-width below this many grid spacings keep the Hertz width [1].
+MIN_PUNCH_WIDTH = 0.5
+
 #: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
 _QUAD_NODES = 16
 
@@ -594,7 +597,7 @@ def _profile_widths(
     x_sorted = np.sort(x)
     for i in range(n):
         target = load[i]
-        if target <= 0.0 or a_hertz[i] < 2.0 * dx:
+        if target <= 0.0 or a_hertz[i] < MIN_PUNCH_WIDTH * dx:
             continue
         b = b_start[i] if b_start[i] > 0.0 else a_hertz[i]
         c = c_start[i]
@@ -812,9 +815,13 @@ def interacting_loading(
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
     slope = None
     if settings.width == "profile":
-        gap_full = np.full(n, np.nan)
-        gap_full[np.asarray(geometry.point)] = geometry.gap0
-        slope = np.gradient(gap_full, dx) if n > 2 else None
+        # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
+        # gap′ = −f_l′ − f_u′ = n_x/n_z − m_x/m_z; NaN where the gap never closes
+        slope = np.full(n, np.nan)
+        slope[np.asarray(geometry.point)] = (
+            np.asarray(geometry.n_x) / np.asarray(geometry.n_z)
+            - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
+        )
     widths = _Widths(slope, dx, e_star, floor)
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
