@@ -577,6 +577,16 @@ def _punch(
 
 
 @numba.njit(cache=True, nogil=True)
+def _bridges(x_sorted: NDArray[np.float64], x: float, c: float, b: float) -> bool:  # pragma: no cover
+    """Does the interval [x + c − b, x + c + b] contain another contact's summit?"""
+    centre = x + c
+    inside = np.searchsorted(x_sorted, centre + b) - np.searchsorted(x_sorted, centre - b)
+    if abs(x - centre) < b:
+        inside -= 1
+    return inside > 0
+
+
+@numba.njit(cache=True, nogil=True)
 def _profile_widths(
     load: NDArray[np.float64], a_hertz: NDArray[np.float64], x: NDArray[np.float64],
     b_start: NDArray[np.float64], c_start: NDArray[np.float64], slope: NDArray[np.float64],
@@ -621,19 +631,16 @@ def _profile_widths(
             b = b * (target / p) ** (1.0 / m)
         if ok:
             # a punch that reaches over another contact's summit is not this contact's
-            # solution (it would bridge the valley between them): keep the previous one
-            centre = x[i] + c
-            inside = np.searchsorted(x_sorted, centre + b) - np.searchsorted(x_sorted, centre - b)
-            if abs(x[i] - centre) < b:
-                inside -= 1
-            if inside > 0:
-                ok = False
+            # solution (it would bridge the valley between them)
+            ok = not _bridges(x_sorted, x[i], c, b)
+        if not ok and b_start[i] > 0.0 and not _bridges(x_sorted, x[i], c_start[i], b_start[i]):
+            # keep the previous width and centre if they are admissible, else Hertz
+            b = b_start[i]
+            c = c_start[i]
+            ok = True
         if ok:
             out_b[i] = b
             out_c[i] = c
-        elif b_start[i] > 0.0:
-            out_b[i] = b_start[i]
-            out_c[i] = c_start[i]
     return out_b, out_c
 
 
