@@ -387,7 +387,11 @@ class _Operator:
         self.c = 2.0 / (math.pi * e_star)
         m = np.arange(cells, dtype=np.float64)
         m[0] = 0.5  # the self cell: any finite value (near pairs are corrected exactly)
-        self.mesh_green = np.asarray(periodic_green(m * self.h, period, e_star), dtype=np.float64)
+        green = np.asarray(periodic_green(m * self.h, period, e_star), dtype=np.float64)
+        # linear spreading and reading each smooth the kernel by h²/12 · G″ on average over the
+        # positions in a cell: take that mean smoothing out of the mesh kernel
+        curvature = self.c * (math.pi / period) ** 2 / np.sin(math.pi * m * self.h / period) ** 2
+        self.mesh_green = green - (self.h**2 / 6.0) * curvature
         self.spectrum = sfft.rfft(self.mesh_green)
         self.mirror = mirror
         self.mirror_axis = (2 * length_nodes - 1) * dx
