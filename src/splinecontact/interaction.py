@@ -102,10 +102,9 @@ _QUAD_NODES = 16
 
 #: Relative change of the contact widths and centres at which the outer loop stops [1]
 #: (widths enter the coupling through logarithms only).
-WIDTH_TOLERANCE = 1e-4
+WIDTH_TOLERANCE = 1e-3
 
-#: Outer (width) iterations and inner conjugate-gradient iterations per step.
-_MAX_OUTER = 50
+#: Conjugate-gradient iterations per solve.
 _MAX_INNER = 10_000
 
 
@@ -123,12 +122,19 @@ class InteractionSettings:
     mesh_cells : int or None
         Cells of the far-field mesh per period [1] (power of two); ``None`` chooses about one cell
         per 128 grid spacings (at least 256).
+    width : {"profile", "hertz"}
+        Contact half-widths from the local punch problem of the smoothed profile (default) or
+        from the Hertz relation a² = δ^eff R_eff/2 of the tip curvature (eq. 10).
+    width_iterations : int
+        Most width updates per step [1] (fewer once the widths change by less than
+        ``WIDTH_TOLERANCE``); 1 lets the widths lag one step behind the loads.
     """
 
     periodic: bool = False
     tol: float = DEFAULT_INTERACTION_TOLERANCE
     mesh_cells: int | None = None
     width: str = "profile"
+    width_iterations: int = 3
 
 
 # --- closed forms ---------------------------------------------------------------------------
@@ -695,17 +701,24 @@ def solve_contacts(
     e_star: float,
     widths: _Widths,
     tol: float,
+    outer: int = 1,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
     """Loads P_i [mN/µm], half-widths and centre shifts [µm] of the contacts at one step.
 
-    Outer loop over the widths and centres (frozen in each constrained-CG solve).
+    The widths and centres are frozen in each constrained-CG solve. Contacts loaded at the
+    previous step start from their previous width and centre, new ones from the Hertz width of
+    SAD's independent force; after each solve the widths are updated from the loads, at most
+    ``outer`` times (1: widths lag one step behind the loads, which changes them by one step's
+    increment).
     """
     floor = widths.floor
     load = initial.copy()
-    guess = np.where(initial > 0.0, initial, _QUARTER_PI * e_star * np.clip(delta, 0.0, None))
-    a, c = widths(guess, reff, x, b_start, c_start)
+    fresh = b_start <= 0.0
+    a = np.where(fresh, _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff,
+                                     e_star, floor), b_start)  # fmt: skip
+    c = np.where(fresh, 0.0, c_start)
     total = 0
-    for _ in range(_MAX_OUTER):
+    for _ in range(outer):
         op.prepare(x + c, a, ez)
         load, iterations = _pk_solve(op, delta, load, tol)
         total += iterations
@@ -822,6 +835,12 @@ def interacting_loading(
         raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
     op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
     floor = 1e-6 * dx
+    if isinstance(settings.width_iterations, bool) or not (
+        isinstance(settings.width_iterations, int) and 1 <= settings.width_iterations <= 100
+    ):
+        raise ParameterError(
+            f"width_iterations must be an integer in 1…100, got {settings.width_iterations!r}"
+        )
     if settings.width not in ("profile", "hertz"):
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
     slope = None
@@ -886,7 +905,7 @@ def interacting_loading(
         x = point_x[j] + offset[:count]
         load, a, shift, iterations = solve_contacts(
             op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(), previous,
-            width_all[j], shift_all[j], e_star, widths, settings.tol,
+            width_all[j], shift_all[j], e_star, widths, settings.tol, settings.width_iterations,
         )  # fmt: skip
         width_all[:] = 0.0
         shift_all[:] = 0.0
