@@ -97,6 +97,9 @@ NEAR_WIDTHS = 6.0
 #: Contacts with a Hertz half-width below this many grid spacings keep the Hertz width [1].
 MIN_PUNCH_WIDTH = 0.5
 
+#: Gauss–Legendre nodes (in θ, s = b sin θ) of the punch integrals.
+PUNCH_NODES = 16
+
 #: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
 _QUAD_NODES = 16
 
@@ -427,15 +430,102 @@ class _Operator:
 
     def displacement(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
         """w_i: vertical displacement at every contact (own far part included) from loads P."""
-        q = self.ez_src * load[self.owner]
-        rho = _deposit(self.pos, q, self.cells, self.h)
-        phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
-        self.phi = phi
-        return _gather(phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q)
+        return self._apply(load, 0.0, np.ones(self.n))
 
     def apply(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
         """Total compliance C P = 2c P + e_z w(P) (SAD's local law plus the coupling)."""
-        return 2.0 * self.c * load + self.ez * self.displacement(load)
+        return self._apply(load, 2.0 * self.c, self.ez)
+
+    def _apply(
+        self, load: NDArray[np.float64], local: float, ez: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        q, rho = _spread(load, self.owner, self.ez_src, self.pos, self.cells, self.h)
+        phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
+        self.phi = phi
+        return _collect(phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q, load,
+                        ez, local)  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True)
+def _spread(
+    load: NDArray[np.float64], owner: NDArray[np.int64], ez_src: NDArray[np.float64],
+    pos: NDArray[np.float64], cells: int, h: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """Vertical source loads q = e_z P (contacts and images) and their linear mesh spreading."""
+    q = np.empty(pos.size)
+    for s in range(pos.size):
+        q[s] = ez_src[s] * load[owner[s]]
+    return q, _deposit(pos, q, cells, h)
+
+
+@numba.njit(cache=True, nogil=True)
+def _collect(
+    phi: NDArray[np.float64], pos: NDArray[np.float64], n: int, h: float,
+    start: NDArray[np.int64], src: NDArray[np.int64], coef: NDArray[np.float64],
+    q: NDArray[np.float64], load: NDArray[np.float64], ez: NDArray[np.float64], local: float,
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """local·P + e_z (mesh field read back + exact near corrections) at the contacts."""
+    u = _gather(phi, pos, n, h, start, src, coef, q)
+    for i in range(n):
+        u[i] = local * load[i] + ez[i] * u[i]
+    return u
+
+
+@numba.njit(cache=True, nogil=True)
+def _pk_direction(
+    p: NDArray[np.float64], cp: NDArray[np.float64], delta: NDArray[np.float64],
+    h: NDArray[np.float64], t: NDArray[np.float64], conjugate: bool, g_norm_old: float,
+    scale: float,
+) -> tuple[float, bool, float]:  # pragma: no cover - compiled
+    """Gap h = C P − δ, the largest complementarity violation / scale, and the CG direction t."""
+    residual = 0.0
+    g_norm = 0.0
+    any_loaded = False
+    for i in range(p.size):
+        h[i] = cp[i] - delta[i]
+        if p[i] > 0.0:
+            any_loaded = True
+            residual = max(residual, abs(h[i]))
+            g_norm += h[i] * h[i]
+        else:
+            residual = max(residual, -h[i])
+    beta = g_norm / g_norm_old if conjugate and g_norm_old > 0.0 else 0.0
+    for i in range(p.size):
+        t[i] = h[i] + beta * t[i] if p[i] > 0.0 else 0.0
+    return residual / scale, any_loaded, g_norm
+
+
+@numba.njit(cache=True, nogil=True)
+def _pk_update(
+    p: NDArray[np.float64], cp: NDArray[np.float64], r: NDArray[np.float64],
+    t: NDArray[np.float64], h: NDArray[np.float64], fallback: float,
+) -> tuple[bool, bool]:  # pragma: no cover - compiled
+    """Step P ← max(P − τ t, 0) (overlapping unloaded contacts get −τ h); returns (conjugate,
+    linear) where linear means C P was updated exactly as C P − τ C t."""
+    num = 0.0
+    den = 0.0
+    for i in range(p.size):
+        if p[i] > 0.0:
+            num += h[i] * t[i]
+            den += r[i] * t[i]
+    tau = num / den if den > 0.0 else fallback
+    conjugate = True
+    linear = True
+    for i in range(p.size):
+        was = p[i] > 0.0
+        value = p[i] - tau * t[i]
+        if was and value < 0.0:
+            value = 0.0
+            linear = False
+        if not was and h[i] < 0.0:
+            value = -tau * h[i]
+            conjugate = False
+            linear = False
+        p[i] = value
+    if linear:
+        for i in range(p.size):
+            cp[i] -= tau * r[i]
+    return conjugate, linear
 
 
 def _pk_solve(
@@ -443,51 +533,50 @@ def _pk_solve(
 ) -> tuple[NDArray[np.float64], int]:
     """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
 
-    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths).
+    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
+    incrementally while the loaded set does not change, and recomputed before convergence is
+    declared.
     """
     scale = float(delta.max())
     if scale <= 0.0:
         return np.zeros_like(delta), 0
     p = np.clip(load, 0.0, None)
     t = np.zeros_like(p)
+    h = np.empty_like(p)
     g_norm_old = 0.0
     conjugate = False
-    diag = 2.0 * op.c + op.ez**2 * np.maximum(op.c * (np.log(op.period / (np.pi * op.a[: op.n])) - 1.5), 0.0)
+    self_part = np.maximum(op.c * (np.log(op.period / (np.pi * op.a[: op.n])) - 1.5), 0.0)
+    fallback = float(1.0 / np.max(2.0 * op.c + op.ez**2 * self_part))
+    cp = op.apply(p)
+    exact = True
+    residual = math.inf
     for iteration in range(_MAX_INNER + 1):
-        h = op.apply(p) - delta
-        loaded = p > 0.0
-        violation = np.where(loaded, np.abs(h), np.clip(-h, 0.0, None))
-        residual = float(violation.max()) / scale if violation.size else 0.0
+        residual, any_loaded, g_norm = _pk_direction(
+            p, cp, delta, h, t, conjugate, g_norm_old, scale
+        )
         if residual <= tol:
-            return p, iteration
-        if not loaded.any():
+            if exact:
+                return p, iteration
+            cp = op.apply(p)
+            exact = True
+            continue
+        if not any_loaded:
             # nothing loaded: exact line search along the overlap −h
             d = np.clip(-h, 0.0, None)
             cd = op.apply(d)
             curvature = float(d @ cd)
-            step = float(d @ d) / curvature if curvature > 0.0 else float(1.0 / diag.max())
+            step = float(d @ d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
+            cp = op.apply(p)
+            exact = True
             continue
-        h_loaded = np.where(loaded, h, 0.0)
-        g_norm = float(h_loaded @ h_loaded)
-        if conjugate and g_norm_old > 0.0:
-            t = h_loaded + (g_norm / g_norm_old) * t
-        else:
-            t = h_loaded.copy()
-        t[~loaded] = 0.0
         g_norm_old = g_norm
         r = op.apply(t)
-        denominator = float(r[loaded] @ t[loaded])
-        tau = float(h_loaded @ t) / denominator if denominator > 0.0 else float(1.0 / diag.max())
-        p = p - tau * t
-        p[p < 0.0] = 0.0
-        overlap = (p == 0.0) & (h < 0.0)
-        if overlap.any():
-            conjugate = False
-            p[overlap] = -tau * h[overlap]
-        else:
-            conjugate = True
+        conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
+        if not linear:
+            cp = op.apply(p)
+        exact = not linear
     raise NoConvergenceError(
         f"the interacting contact solve did not converge in {_MAX_INNER} iterations (residual "
         f"{residual:.3g} > tol {tol:.3g}); raise tol or use more steps"
@@ -514,8 +603,13 @@ def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pra
 def _neighbour_slope(
     pos: float, first: int, last: int, src: NDArray[np.int64], src_pos: NDArray[np.float64],
     src_a: NDArray[np.float64], src_q: NDArray[np.float64], own: int, period: float, c0: float,
+    reach: float,
 ) -> float:  # pragma: no cover - compiled
-    """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``."""
+    """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``.
+
+    Neighbours farther than ``reach`` plus NEAR_WIDTHS of their own half-widths only tilt the
+    contact uniformly and are left out.
+    """
     total = 0.0
     for k in range(first, last):
         s = src[k]
@@ -526,6 +620,8 @@ def _neighbour_slope(
         r -= period * math.floor(r / period + 0.5)
         a = src_a[s]
         t = abs(r)
+        if t > reach + NEAR_WIDTHS * a:
+            continue
         if t <= a:
             g = r
         else:
@@ -550,13 +646,14 @@ def _punch(
     s = b sin θ and Gauss–Legendre nodes in θ. Returns (c, P), NaN beyond the candidates.
     """
     c0 = 2.0 / (math.pi * e_star)
+    reach = NEAR_WIDTHS * b
     for _ in range(20):
         i0 = 0.0
         i1 = 0.0
         for k in range(sines.size):
             pos = x + c + b * sines[k]
             v = _sample(slope, pos, dx) + _neighbour_slope(
-                pos, first, last, src, src_pos, src_a, src_q, own, period, c0
+                pos, first, last, src, src_pos, src_a, src_q, own, period, c0, reach
             )
             w = _sample(curvature, pos, dx)
             if math.isnan(v) or math.isnan(w):
@@ -578,7 +675,7 @@ def _punch(
         s = b * sines[k]
         pos = x + c + s
         v = _sample(slope, pos, dx) + _neighbour_slope(
-            pos, first, last, src, src_pos, src_a, src_q, own, period, c0
+            pos, first, last, src, src_pos, src_a, src_q, own, period, c0, reach
         )
         if math.isnan(v):
             return math.nan, math.nan
@@ -663,7 +760,7 @@ class _Widths:
         self.dx = dx
         self.e_star = e_star
         self.floor = floor
-        nodes, weights = np.polynomial.legendre.leggauss(32)
+        nodes, weights = np.polynomial.legendre.leggauss(PUNCH_NODES)
         self.sines = np.sin(0.5 * np.pi * nodes)
         self.weights = 0.5 * np.pi * weights
 
