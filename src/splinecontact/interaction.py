@@ -83,6 +83,9 @@ DEFAULT_INTERACTION_TOLERANCE = 1e-6
 #: Default reach of the candidate set beyond the final displacement, as a fraction of it [1].
 DEFAULT_REACH = 1.0
 
+#: Mesh cells per load (contact or image) when the mesh size follows the contacts [1].
+CELLS_PER_SOURCE = 8
+
 #: Pairs of contacts closer than this many mesh cells get the exact coupling coefficient.
 NEAR_CELLS = 4
 
@@ -123,8 +126,8 @@ class InteractionSettings:
     tol : float
         Largest complementarity violation / largest overlap of the step [1].
     mesh_cells : int or None
-        Cells of the far-field mesh per period [1] (power of two); ``None`` chooses about one cell
-        per 128 grid spacings (at least 256).
+        Cells of the far-field mesh per period [1] (power of two); ``None`` chooses about
+        ``CELLS_PER_SOURCE`` cells per contact and image at every step (at least 64).
     width : {"profile", "hertz"}
         Contact half-widths from the local punch problem of the smoothed profile (default) or
         from the Hertz relation a² = δ^eff R_eff/2 of the tip curvature (eq. 10).
@@ -389,26 +392,48 @@ def _gather(
 class _Operator:
     """Displacement at the contacts caused by contact loads: mesh far field + exact near field."""
 
-    def __init__(self, period: float, cells: int, e_star: float, mirror: bool, length_nodes: int, dx: float) -> None:
+    def __init__(
+        self, period: float, cells: int | None, e_star: float, mirror: bool, length_nodes: int,
+        dx: float,
+    ) -> None:
         self.period = period
-        self.cells = cells
-        self.h = period / cells
+        self.fixed_cells = cells
+        self.e_star = e_star
         self.c = 2.0 / (math.pi * e_star)
-        m = np.arange(cells, dtype=np.float64)
-        m[0] = 0.5  # the self cell: any finite value (near pairs are corrected exactly)
-        green = np.asarray(periodic_green(m * self.h, period, e_star), dtype=np.float64)
-        # linear spreading and reading each smooth the kernel by h²/12 · G″ on average over the
-        # positions in a cell: take that mean smoothing out of the mesh kernel
-        curvature = self.c * (math.pi / period) ** 2 / np.sin(math.pi * m * self.h / period) ** 2
-        self.mesh_green = green - (self.h**2 / 6.0) * curvature
-        self.spectrum = sfft.rfft(self.mesh_green)
         self.mirror = mirror
         self.mirror_axis = (2 * length_nodes - 1) * dx
+        self.max_cells = max(64, 1 << int(math.ceil(math.log2(max(2 * length_nodes, 2)))))
         self.nodes, self.weights = _quadrature()
+        self._meshes: dict[int, tuple[NDArray[np.float64], NDArray[np.complex128]]] = {}
+        self._use(cells if cells is not None else 64)
+
+    def _use(self, cells: int) -> None:
+        """Switch to a mesh of ``cells`` cells (kernels cached per size)."""
+        if cells not in self._meshes:
+            h = self.period / cells
+            m = np.arange(cells, dtype=np.float64)
+            m[0] = 0.5  # the self cell: any finite value (near pairs are corrected exactly)
+            green = np.asarray(periodic_green(m * h, self.period, self.e_star), dtype=np.float64)
+            # linear spreading and reading each smooth the kernel by h²/12 · G″ on average over
+            # the positions in a cell: take that mean smoothing out of the mesh kernel
+            curvature = (
+                self.c * (math.pi / self.period) ** 2 / np.sin(math.pi * m * h / self.period) ** 2
+            )
+            mesh_green = green - (h**2 / 6.0) * curvature
+            self._meshes[cells] = (mesh_green, sfft.rfft(mesh_green))
+        self.cells = cells
+        self.h = self.period / cells
+        self.mesh_green, self.spectrum = self._meshes[cells]
 
     def prepare(self, x: NDArray[np.float64], a: NDArray[np.float64], ez: NDArray[np.float64]) -> None:
         n = x.size
         self.n = n
+        if self.fixed_cells is None:
+            # about CELLS_PER_SOURCE cells per load (contacts and images): the mesh follows the
+            # number of contacts, not the number of grid points
+            sources = 2 * n if self.mirror else n
+            wanted = 1 << int(math.ceil(math.log2(max(CELLS_PER_SOURCE * sources, 64))))
+            self._use(min(wanted, self.max_cells))
         if self.mirror:
             self.pos = np.concatenate([x, self.mirror_axis - x])
             self.a = np.concatenate([a, a])
@@ -879,11 +904,6 @@ def extended_geometry(
     return replace(geometry, displacement=displacement), stats
 
 
-def _default_cells(period_nodes: int) -> int:
-    target = max(256, period_nodes // 128)
-    return 1 << int(math.ceil(math.log2(target)))
-
-
 def interacting_loading(
     geometry: Any,
     *,
@@ -927,8 +947,10 @@ def interacting_loading(
     n = int(n_points)
     period_nodes = n if settings.periodic else 2 * n
     period = period_nodes * dx
-    cells = settings.mesh_cells if settings.mesh_cells is not None else _default_cells(period_nodes)
-    if cells < 8 or cells & (cells - 1):
+    cells = settings.mesh_cells
+    if cells is not None and (
+        isinstance(cells, bool) or not isinstance(cells, int) or cells < 8 or cells & (cells - 1)
+    ):
         raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
     op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
     floor = 1e-6 * dx
