@@ -226,6 +226,9 @@ def pair_coefficient(r: float, a_target: float, a_source: float, period: float, 
 def _accept(
     d: float,
     delta_min: float,
+    uplift: NDArray[np.float64],
+    cell: float,
+    point_x: NDArray[np.float64],
     n_active: int,
     gap0: NDArray[np.float64],
     kl: NDArray[np.float64],
@@ -269,6 +272,17 @@ def _accept(
         )
         if delta <= delta_min:
             continue
+        if delta <= 0.0:
+            # an open summit can only touch where the surface has risen towards it: the mesh
+            # displacement of the previous step (smooth, so it underestimates the rise next to
+            # loaded contacts only where the surface is pushed down anyway)
+            t = point_x[j] / cell
+            i0 = int(math.floor(t))
+            frac = t - i0
+            cells = uplift.size
+            rise = -(uplift[i0 % cells] * (1.0 - frac) + uplift[(i0 + 1) % cells] * frac)
+            if delta <= -UPLIFT_FACTOR * rise:
+                continue
         offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
         if not (-half_dx <= offset < half_dx):
             continue
@@ -1002,6 +1016,8 @@ def interacting_loading(
     closing_gap = np.maximum.accumulate(np.asarray(geometry.gap0, dtype=np.float64))
     reach = float(closing_gap[-1]) if closing_gap.size else 0.0
     margin = 0.0
+    field = np.zeros(1)
+    field_cell = period
     for step in range(n_steps):
         d = float(displacement[step])
         increment = d - float(displacement[step - 1]) if step > 0 else 0.0
@@ -1010,7 +1026,7 @@ def interacting_loading(
             curves["reach_exceeded"][step] = 1
         n_active = int(np.searchsorted(closing_gap, threshold, side="right"))
         count = _accept(
-            d, -margin, n_active, geometry.gap0, geometry.curvature_lower,
+            d, -margin, field, field_cell, point_x, n_active, geometry.gap0, geometry.curvature_lower,
             geometry.curvature_upper, geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, dx,
             idx, delta, ex, ez, reff, offset, offset_z,
         )  # fmt: skip
@@ -1034,7 +1050,9 @@ def interacting_loading(
         curves["interaction_iterations"][step] = iterations
         if np.any(load > 0.0):
             op.displacement(load)
-            margin = UPLIFT_FACTOR * max(0.0, -float(op.phi.min()))
+            field = op.phi.copy()
+            field_cell = op.h
+            margin = UPLIFT_FACTOR * max(0.0, -float(field.min()))
         on = load > 0.0
         f_n = load
         # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
