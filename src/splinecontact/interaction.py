@@ -140,7 +140,7 @@ class InteractionSettings:
     tol: float = DEFAULT_INTERACTION_TOLERANCE
     mesh_cells: int | None = None
     width: str = "profile"
-    width_iterations: int = 3
+    width_iterations: int = 1
 
 
 # --- closed forms ---------------------------------------------------------------------------
@@ -189,11 +189,21 @@ def _pair(
     r: float, a_t: float, a_s: float, period: float, c: float, nodes: NDArray[np.float64],
     weights: NDArray[np.float64],
 ) -> float:  # pragma: no cover - compiled
-    """Symmetrised coupling coefficient between contacts at distance r with half-widths a_t, a_s."""
-    total = 0.0
-    for k in range(nodes.size):
-        total += weights[k] * (_punch_log(r - a_s * nodes[k], a_t) + _punch_log(r - a_t * nodes[k], a_s))
-    mean_log = 0.5 * total
+    """Symmetrised coupling coefficient between contacts at distance r with half-widths a_t, a_s.
+
+    Beyond three times the sum of the widths the averages are ln|r| − (3/16)(a_t² + a_s²)/r²
+    to O((a/r)⁴) (the second moments of the punch and Hertz weights); closer by quadrature.
+    """
+    t = abs(r)
+    if t > 3.0 * (a_t + a_s):
+        mean_log = math.log(t) - 0.1875 * (a_t * a_t + a_s * a_s) / (t * t)
+    else:
+        total = 0.0
+        for k in range(nodes.size):
+            total += weights[k] * (
+                _punch_log(r - a_s * nodes[k], a_t) + _punch_log(r - a_t * nodes[k], a_s)
+            )
+        mean_log = 0.5 * total
     x = math.pi * r / period
     sinc = math.sin(x) / x if x != 0.0 else 1.0
     return -c * (mean_log + math.log(2.0 * math.pi / period) + math.log(abs(sinc)))
@@ -1000,6 +1010,9 @@ def interacting_loading(
     offset = np.empty(n_cand)
     offset_z = np.empty(n_cand)
     load_all = np.zeros(n_cand)
+    older_all = np.zeros(n_cand)
+    last_j = np.zeros(0, dtype=np.int64)
+    last_increment = 0.0
     tangential = np.zeros(n_cand)
     width_all = np.zeros(n_cand)
     shift_all = np.zeros(n_cand)
@@ -1030,20 +1043,38 @@ def interacting_loading(
             geometry.curvature_upper, geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, dx,
             idx, delta, ex, ez, reff, offset, offset_z,
         )  # fmt: skip
-        j = idx[:count]
-        previous = load_all[j].copy()
-        keep_tangential = tangential[j].copy()
-        load_all[:] = 0.0
-        tangential[:] = 0.0
+        j = idx[:count].copy()
+        previous = load_all[j]
+        older = older_all[j]
+        keep_tangential = tangential[j]
+        b_start = width_all[j]
+        c_start = shift_all[j]
+        # the state lives on the contacts of the last step only: clear it there
+        older_all[last_j] = 0.0
+        older_all[j] = previous
+        load_all[last_j] = 0.0
+        tangential[last_j] = 0.0
+        width_all[last_j] = 0.0
+        shift_all[last_j] = 0.0
+        last_j = j
         if count == 0:
             continue
         x = point_x[j] + offset[:count]
+        # warm start: the loads of the last step, extrapolated along the path where known
+        ratio = increment / last_increment if last_increment > 0.0 else 0.0
+        guess = np.where(
+            (previous > 0.0) & (older > 0.0), previous + ratio * (previous - older), previous
+        )
+        last_increment = increment
+        # and the widths with them (a ∝ √P near a smooth summit)
+        grown = (previous > 0.0) & (guess > 0.0)
+        b_start = np.where(grown, b_start * np.sqrt(np.where(grown, guess, 1.0) /
+                                                    np.where(grown, previous, 1.0)), b_start)  # fmt: skip
         load, a, shift, iterations = solve_contacts(
-            op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(), previous,
-            width_all[j], shift_all[j], e_star, widths, settings.tol, settings.width_iterations,
+            op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(),
+            np.clip(guess, 0.0, None), b_start, c_start, e_star, widths, settings.tol,
+            settings.width_iterations,
         )  # fmt: skip
-        width_all[:] = 0.0
-        shift_all[:] = 0.0
         width_all[j] = np.where(load > 0.0, a, 0.0)
         shift_all[j] = np.where(load > 0.0, shift, 0.0)
         x = x + shift
