@@ -76,23 +76,44 @@ def bem_states(
     return data
 
 
-def realization(d: float, seed: int, pair: bool, cache: Path, n_points: int, mesh: int | None) -> dict[str, np.ndarray]:
+def realization(
+    d: float, seed: int, pair: bool, cache: Path, n_points: int, mesh: int | None
+) -> dict[str, np.ndarray]:
     if pair:
         lower, upper_p = weierstrass_mandelbrot_pair(d, n_points=n_points, seed=seed)
         upper: Profile | str = upper_p
     else:
         lower = weierstrass_mandelbrot(d, n_points=n_points, seed=seed)
         upper = "flat"
-    geo, _ = contact_geometry(lower, upper, steps=1000, final_displacement=None,
-                              final_displacement_factor=0.2, alpha=2.0, x0=1.0)  # fmt: skip
+    geo, _ = contact_geometry(
+        lower,
+        upper,
+        steps=1000,
+        final_displacement=None,
+        final_displacement_factor=0.2,
+        alpha=2.0,
+        x0=1.0,
+    )
     t0 = time.process_time()
     sad, _ = run_loading(geo, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
     t1 = time.process_time()
-    geo_x, _ = extended_geometry(lower, upper, steps=1000, final_displacement=None,
-                                 final_displacement_factor=0.2, alpha=2.0, x0=1.0)  # fmt: skip
-    inter, _ = interacting_loading(geo_x, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3,
-                                   n_points=lower.n_points,
-                                   settings=InteractionSettings(mesh_cells=mesh))  # fmt: skip
+    geo_x, _ = extended_geometry(
+        lower,
+        upper,
+        steps=1000,
+        final_displacement=None,
+        final_displacement_factor=0.2,
+        alpha=2.0,
+        x0=1.0,
+    )
+    inter, _ = interacting_loading(
+        geo_x,
+        e_star=E_STAR,
+        g_star=E_STAR / 2.6,
+        mu0=0.3,
+        n_points=lower.n_points,
+        settings=InteractionSettings(mesh_cells=mesh),
+    )
     t2 = time.process_time()
     top = float(inter["normal_force"].max())
     forces = top * np.arange(1, 21) / 20
@@ -154,8 +175,10 @@ def main() -> None:
                 f"{int(r['reach_exceeded'])} steps",
                 flush=True,
             )
-    print("\nD | interacting length/exact median (p5–p95) | mean gap/exact median (p5–p95) | "
-          "independent length | independent gap | exact patches / interacting patches")  # fmt: skip
+    print(
+        "\nD | interacting length/exact median (p5–p95) | mean gap/exact median (p5–p95) | "
+        "independent length | independent gap | exact patches / interacting patches"
+    )
     for d, rows in table.items():
         q = {k: np.percentile(v, [50, 5, 95]) for k, v in rows.items()}
         print(

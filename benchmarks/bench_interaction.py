@@ -55,8 +55,9 @@ def main() -> None:
     parser.add_argument("--bem-forces", type=int, default=None)
     args = parser.parse_args()
     profile = weierstrass_mandelbrot(args.dimension, n_points=args.n_points, seed=args.seed)
-    kwargs = dict(steps=args.steps, final_displacement=None, final_displacement_factor=0.2,
-                  alpha=2.0, x0=1.0)  # fmt: skip
+    kwargs = dict(
+        steps=args.steps, final_displacement=None, final_displacement_factor=0.2, alpha=2.0, x0=1.0
+    )
     # compile both kernels on a small profile first
     small = weierstrass_mandelbrot(args.dimension, n_points=4096, seed=args.seed)
     g, _ = extended_geometry(small, "flat", **kwargs)  # type: ignore[arg-type]
@@ -68,8 +69,10 @@ def main() -> None:
     geometry, _ = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
     plain, _ = run_loading(geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
     cpu_sad, wall_sad = since(start)
-    print(f"plain SAD: CPU {cpu_sad:.3f} s, wall {wall_sad:.3f} s; "
-          f"{geometry.gap0.size} candidates, {plain['n_contacts'].max()} contacts at most")  # fmt: skip
+    print(
+        f"plain SAD: CPU {cpu_sad:.3f} s, wall {wall_sad:.3f} s; "
+        f"{geometry.gap0.size} candidates, {plain['n_contacts'].max()} contacts at most"
+    )
 
     start = clock()
     geometry, _ = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
@@ -97,8 +100,11 @@ def main() -> None:
         state = _solve_in_substeps(problem, load, previous, previous_load, 1e-10, 5000)
         previous, previous_load = state.pressure, load
         cpu, wall = since(start)
-        print(f"  BEM force {k + 1}/{solve.size}: {state.iterations} iterations, "
-              f"CPU {cpu:.1f} s, wall {wall:.1f} s so far", flush=True)  # fmt: skip
+        print(
+            f"  BEM force {k + 1}/{solve.size}: {state.iterations} iterations, "
+            f"CPU {cpu:.1f} s, wall {wall:.1f} s so far",
+            flush=True,
+        )
     cpu_bem, wall_bem = since(start)
     print(
         f"BEM at {solve.size} of {forces.size} forces: CPU {cpu_bem:.1f} s, wall {wall_bem:.1f} s "

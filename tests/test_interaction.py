@@ -139,15 +139,16 @@ def bem_at(
         assert step.pressure is not None
         stats = bem.contact_statistics(step.pressure[:n], profile.dx, periodic=False)
         rows.append((step.approach, step.mean_gap, stats.contact_length_subgrid, stats.n_patches))
-    approach, gap, length, patches = (np.array(column) for column in zip(*rows))
+    approach, gap, length, patches = (np.array(column) for column in zip(*rows, strict=True))
     return approach, gap, length, patches
 
 
 def test_single_asperity_interacting_independent_and_exact_agree() -> None:
     n, dx, radius = 4096, 0.01, 200.0
     profile = circle_profile(n, dx, radius, [n // 2 * dx])
-    kwargs = dict(steps=200, final_displacement=6e-3, final_displacement_factor=0.2, alpha=2.0,
-                  x0=1.0)  # fmt: skip
+    kwargs = dict(
+        steps=200, final_displacement=6e-3, final_displacement_factor=0.2, alpha=2.0, x0=1.0
+    )
     plain, _ = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
     independent, _ = run_loading(plain, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
     geometry, _ = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
@@ -156,8 +157,10 @@ def test_single_asperity_interacting_independent_and_exact_agree() -> None:
     )
     steps = np.array([40, 80, 120, 160, 200])
     # Hertz: a² = 4PR/(πE*), both variants, each at its own force
-    for curves, width in ((independent, np.sqrt(2) * independent["contact_area"]),
-                          (inter, inter["contact_length"])):  # fmt: skip
+    for curves, width in (
+        (independent, np.sqrt(2) * independent["contact_area"]),
+        (inter, inter["contact_length"]),
+    ):
         force = curves["normal_force"][steps]
         hertz = 2.0 * np.sqrt(4.0 * force * radius / (math.pi * E_STAR))
         np.testing.assert_allclose(width[steps], hertz, rtol=2e-3)
@@ -175,13 +178,22 @@ def test_single_asperity_interacting_independent_and_exact_agree() -> None:
     assert np.all(independent["normal_force"][steps] > 1.4 * inter["normal_force"][steps])
 
 
-def two_asperity_errors(n: int, dx: float, spacing: float, final: float) -> tuple[float, float, float]:
+def two_asperity_errors(
+    n: int, dx: float, spacing: float, final: float
+) -> tuple[float, float, float]:
     """Largest relative error of approach and contact length at equal force, and s / a_max."""
     radius = 200.0
     mid = n // 2 * dx
     profile = circle_profile(n, dx, radius, [mid - spacing / 2, mid + spacing / 2])
-    geometry, _ = extended_geometry(profile, "flat", steps=100, final_displacement=final,
-                                    final_displacement_factor=0.2, alpha=2.0, x0=1.0)  # fmt: skip
+    geometry, _ = extended_geometry(
+        profile,
+        "flat",
+        steps=100,
+        final_displacement=final,
+        final_displacement_factor=0.2,
+        alpha=2.0,
+        x0=1.0,
+    )
     inter, _ = interacting_loading(
         geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3, n_points=n
     )
@@ -213,16 +225,32 @@ def test_two_asperities_force_approach_matches_bem_fine(spacing: float) -> None:
 
 def test_bad_settings_are_refused() -> None:
     profile = circle_profile(256, 0.01, 50.0, [1.28])
-    geometry, _ = extended_geometry(profile, "flat", steps=5, final_displacement=1e-3,
-                                    final_displacement_factor=0.2, alpha=2.0, x0=1.0)  # fmt: skip
+    geometry, _ = extended_geometry(
+        profile,
+        "flat",
+        steps=5,
+        final_displacement=1e-3,
+        final_displacement_factor=0.2,
+        alpha=2.0,
+        x0=1.0,
+    )
     for settings, message in (
         (InteractionSettings(tol=0.0), "tol"),
         (InteractionSettings(mesh_cells=100), "mesh_cells"),
         (InteractionSettings(width="wide"), "width"),
     ):
         with pytest.raises(ParameterError, match=message):
-            interacting_loading(geometry, e_star=E_STAR, g_star=1.0, mu0=0.3, n_points=256,
-                                settings=settings)  # fmt: skip
+            interacting_loading(
+                geometry, e_star=E_STAR, g_star=1.0, mu0=0.3, n_points=256, settings=settings
+            )
     with pytest.raises(ParameterError, match="reach"):
-        extended_geometry(profile, "flat", steps=5, final_displacement=1e-3,
-                          final_displacement_factor=0.2, alpha=2.0, x0=1.0, reach=-1.0)  # fmt: skip
+        extended_geometry(
+            profile,
+            "flat",
+            steps=5,
+            final_displacement=1e-3,
+            final_displacement_factor=0.2,
+            alpha=2.0,
+            x0=1.0,
+            reach=-1.0,
+        )

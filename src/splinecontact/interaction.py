@@ -161,7 +161,9 @@ def periodic_green(r: NDArray[np.float64] | float, period: float, e_star: float)
     e_star : float
         Effective modulus E* [GPa].
     """
-    return -(2.0 / (math.pi * e_star)) * np.log(np.abs(2.0 * np.sin(np.pi * np.asarray(r) / period)))
+    return -(2.0 / (math.pi * e_star)) * np.log(
+        np.abs(2.0 * np.sin(np.pi * np.asarray(r) / period))
+    )
 
 
 def self_coefficient(a: float, period: float, e_star: float) -> float:
@@ -186,7 +188,12 @@ def _punch_log(rho: float, a: float) -> float:  # pragma: no cover - compiled
 
 @numba.njit(cache=True, nogil=True)
 def _pair(
-    r: float, a_t: float, a_s: float, period: float, c: float, nodes: NDArray[np.float64],
+    r: float,
+    a_t: float,
+    a_s: float,
+    period: float,
+    c: float,
+    nodes: NDArray[np.float64],
     weights: NDArray[np.float64],
 ) -> float:  # pragma: no cover - compiled
     """Symmetrised coupling coefficient between contacts at distance r with half-widths a_t, a_s.
@@ -217,7 +224,9 @@ def _quadrature() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     return np.cos(theta), (2.0 / (m + 1)) * np.sin(theta) ** 2
 
 
-def pair_coefficient(r: float, a_target: float, a_source: float, period: float, e_star: float) -> float:
+def pair_coefficient(
+    r: float, a_target: float, a_source: float, period: float, e_star: float
+) -> float:
     """Vertical displacement at one contact per unit load on another [µm/(mN/µm)].
 
     The source's Hertz field (half-width ``a_source`` [µm]) averaged over the target contact
@@ -225,8 +234,17 @@ def pair_coefficient(r: float, a_target: float, a_source: float, period: float, 
     in a period ``period`` [µm] at distance ``r`` [µm] (zero-mean periodic displacement).
     """
     nodes, weights = _quadrature()
-    return float(_pair(float(r), float(a_target), float(a_source), float(period),
-                       2.0 / (math.pi * e_star), nodes, weights))  # fmt: skip
+    return float(
+        _pair(
+            float(r),
+            float(a_target),
+            float(a_source),
+            float(period),
+            2.0 / (math.pi * e_star),
+            nodes,
+            weights,
+        )
+    )
 
 
 # --- the per-step geometric pass (SAD eqs. 7–10, Table 1, eq. 9) ----------------------------
@@ -287,7 +305,7 @@ def _accept(
             # displacement of the previous step (smooth, so it underestimates the rise next to
             # loaded contacts only where the surface is pushed down anyway)
             t = point_x[j] / cell
-            i0 = int(math.floor(t))
+            i0 = math.floor(t)
             frac = t - i0
             cells = uplift.size
             rise = -(uplift[i0 % cells] * (1.0 - frac) + uplift[(i0 + 1) % cells] * frac)
@@ -331,7 +349,6 @@ def _near_pairs(
     Targets are sources 0 … n_targets − 1 (the contacts); the correction replaces the mesh's
     coupling of the pair by the exact one (the self pair by the self coefficient).
     """
-    n_src = pos.size
     order = np.argsort(pos)
     sorted_pos = pos[order]
     h = period / cells
@@ -351,7 +368,7 @@ def _near_pairs(
         k = start[i]
         xi = pos[i]
         ci = xi / h
-        ia = int(math.floor(ci))
+        ia = math.floor(ci)
         fi = ci - ia
         for shift in (-period, 0.0, period):
             lo = np.searchsorted(sorted_pos, xi + shift - near, side="left")
@@ -361,7 +378,7 @@ def _near_pairs(
                 src[k] = s
                 # mesh coupling of the pair (linear weights at both ends)
                 cs = pos[s] / h
-                sa = int(math.floor(cs))
+                sa = math.floor(cs)
                 fs = cs - sa
                 mesh = 0.0
                 for da in range(2):
@@ -383,11 +400,13 @@ def _near_pairs(
 
 
 @numba.njit(cache=True, nogil=True)
-def _deposit(pos: NDArray[np.float64], q: NDArray[np.float64], cells: int, h: float) -> NDArray[np.float64]:  # pragma: no cover
+def _deposit(
+    pos: NDArray[np.float64], q: NDArray[np.float64], cells: int, h: float
+) -> NDArray[np.float64]:  # pragma: no cover
     rho = np.zeros(cells)
     for s in range(pos.size):
         cs = pos[s] / h
-        sa = int(math.floor(cs))
+        sa = math.floor(cs)
         fs = cs - sa
         rho[sa % cells] += (1.0 - fs) * q[s]
         rho[(sa + 1) % cells] += fs * q[s]
@@ -396,15 +415,20 @@ def _deposit(pos: NDArray[np.float64], q: NDArray[np.float64], cells: int, h: fl
 
 @numba.njit(cache=True, nogil=True)
 def _gather(
-    phi: NDArray[np.float64], pos: NDArray[np.float64], n_targets: int, h: float,
-    start: NDArray[np.int64], src: NDArray[np.int64], coef: NDArray[np.float64],
+    phi: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    n_targets: int,
+    h: float,
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    coef: NDArray[np.float64],
     q: NDArray[np.float64],
 ) -> NDArray[np.float64]:  # pragma: no cover
     cells = phi.size
     u = np.empty(n_targets)
     for i in range(n_targets):
         ci = pos[i] / h
-        ia = int(math.floor(ci))
+        ia = math.floor(ci)
         fi = ci - ia
         value = (1.0 - fi) * phi[ia % cells] + fi * phi[(ia + 1) % cells]
         for k in range(start[i], start[i + 1]):
@@ -417,7 +441,12 @@ class _Operator:
     """Displacement at the contacts caused by contact loads: mesh far field + exact near field."""
 
     def __init__(
-        self, period: float, cells: int | None, e_star: float, mirror: bool, length_nodes: int,
+        self,
+        period: float,
+        cells: int | None,
+        e_star: float,
+        mirror: bool,
+        length_nodes: int,
         dx: float,
     ) -> None:
         self.period = period
@@ -426,7 +455,7 @@ class _Operator:
         self.c = 2.0 / (math.pi * e_star)
         self.mirror = mirror
         self.mirror_axis = (2 * length_nodes - 1) * dx
-        self.max_cells = max(64, 1 << int(math.ceil(math.log2(max(2 * length_nodes, 2)))))
+        self.max_cells = max(64, 1 << math.ceil(math.log2(max(2 * length_nodes, 2))))
         self.nodes, self.weights = _quadrature()
         self._meshes: dict[int, tuple[NDArray[np.float64], NDArray[np.complex128]]] = {}
         self._use(cells if cells is not None else 64)
@@ -449,14 +478,16 @@ class _Operator:
         self.h = self.period / cells
         self.mesh_green, self.spectrum = self._meshes[cells]
 
-    def prepare(self, x: NDArray[np.float64], a: NDArray[np.float64], ez: NDArray[np.float64]) -> None:
+    def prepare(
+        self, x: NDArray[np.float64], a: NDArray[np.float64], ez: NDArray[np.float64]
+    ) -> None:
         n = x.size
         self.n = n
         if self.fixed_cells is None:
             # about CELLS_PER_SOURCE cells per load (contacts and images): the mesh follows the
             # number of contacts, not the number of grid points
             sources = 2 * n if self.mirror else n
-            wanted = 1 << int(math.ceil(math.log2(max(CELLS_PER_SOURCE * sources, 64))))
+            wanted = 1 << math.ceil(math.log2(max(CELLS_PER_SOURCE * sources, 64)))
             self._use(min(wanted, self.max_cells))
         if self.mirror:
             self.pos = np.concatenate([x, self.mirror_axis - x])
@@ -473,9 +504,18 @@ class _Operator:
         largest = float(a.max()) if a.size else 0.0
         near = min(max(NEAR_CELLS * self.h, NEAR_WIDTHS * largest), 0.25 * self.period)
         self.start, self.src, self.coef = _near_pairs(
-            self.pos, self.a, n, self.owner, self.period, self.cells, near,
-            self.mesh_green, self.c, self.nodes, self.weights,
-        )  # fmt: skip
+            self.pos,
+            self.a,
+            n,
+            self.owner,
+            self.period,
+            self.cells,
+            near,
+            self.mesh_green,
+            self.c,
+            self.nodes,
+            self.weights,
+        )
 
     def displacement(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
         """w_i: vertical displacement at every contact (own far part included) from loads P."""
@@ -491,14 +531,19 @@ class _Operator:
         q, rho = _spread(load, self.owner, self.ez_src, self.pos, self.cells, self.h)
         phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
         self.phi = phi
-        return _collect(phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q, load,
-                        ez, local)  # fmt: skip
+        return _collect(
+            phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q, load, ez, local
+        )
 
 
 @numba.njit(cache=True, nogil=True)
 def _spread(
-    load: NDArray[np.float64], owner: NDArray[np.int64], ez_src: NDArray[np.float64],
-    pos: NDArray[np.float64], cells: int, h: float,
+    load: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    ez_src: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    cells: int,
+    h: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
     """Vertical source loads q = e_z P (contacts and images) and their linear mesh spreading."""
     q = np.empty(pos.size)
@@ -509,9 +554,17 @@ def _spread(
 
 @numba.njit(cache=True, nogil=True)
 def _collect(
-    phi: NDArray[np.float64], pos: NDArray[np.float64], n: int, h: float,
-    start: NDArray[np.int64], src: NDArray[np.int64], coef: NDArray[np.float64],
-    q: NDArray[np.float64], load: NDArray[np.float64], ez: NDArray[np.float64], local: float,
+    phi: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    n: int,
+    h: float,
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    coef: NDArray[np.float64],
+    q: NDArray[np.float64],
+    load: NDArray[np.float64],
+    ez: NDArray[np.float64],
+    local: float,
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
     """local·P + e_z (mesh field read back + exact near corrections) at the contacts."""
     u = _gather(phi, pos, n, h, start, src, coef, q)
@@ -522,8 +575,13 @@ def _collect(
 
 @numba.njit(cache=True, nogil=True)
 def _pk_direction(
-    p: NDArray[np.float64], cp: NDArray[np.float64], delta: NDArray[np.float64],
-    h: NDArray[np.float64], t: NDArray[np.float64], conjugate: bool, g_norm_old: float,
+    p: NDArray[np.float64],
+    cp: NDArray[np.float64],
+    delta: NDArray[np.float64],
+    h: NDArray[np.float64],
+    t: NDArray[np.float64],
+    conjugate: bool,
+    g_norm_old: float,
     scale: float,
 ) -> tuple[float, bool, float]:  # pragma: no cover - compiled
     """Gap h = C P − δ, the largest complementarity violation / scale, and the CG direction t."""
@@ -546,8 +604,12 @@ def _pk_direction(
 
 @numba.njit(cache=True, nogil=True)
 def _pk_update(
-    p: NDArray[np.float64], cp: NDArray[np.float64], r: NDArray[np.float64],
-    t: NDArray[np.float64], h: NDArray[np.float64], fallback: float,
+    p: NDArray[np.float64],
+    cp: NDArray[np.float64],
+    r: NDArray[np.float64],
+    t: NDArray[np.float64],
+    h: NDArray[np.float64],
+    fallback: float,
 ) -> tuple[bool, bool]:  # pragma: no cover - compiled
     """Step P ← max(P − τ t, 0) (overlapping unloaded contacts get −τ h); returns (conjugate,
     linear) where linear means C P was updated exactly as C P − τ C t."""
@@ -632,7 +694,9 @@ def _pk_solve(
     )
 
 
-def _hertz_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float) -> NDArray[np.float64]:
+def _hertz_width(
+    load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float
+) -> NDArray[np.float64]:
     """Hertz half-width a = √(2 P R_eff/(πE*)) = √(δ^eff R_eff/2) [µm], at least ``floor``."""
     return np.maximum(np.sqrt(2.0 * np.clip(load, 0.0, None) * reff / (math.pi * e_star)), floor)
 
@@ -641,7 +705,7 @@ def _hertz_width(load: NDArray[np.float64], reff: NDArray[np.float64], e_star: f
 def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pragma: no cover
     """Linear interpolation of a grid array at position ``pos`` [µm]; NaN outside it."""
     t = pos / dx
-    i0 = int(math.floor(t))
+    i0 = math.floor(t)
     if i0 < 0 or i0 + 1 >= values.size:
         return math.nan
     frac = t - i0
@@ -650,8 +714,16 @@ def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pra
 
 @numba.njit(cache=True, nogil=True)
 def _neighbour_slope(
-    pos: float, first: int, last: int, src: NDArray[np.int64], src_pos: NDArray[np.float64],
-    src_a: NDArray[np.float64], src_q: NDArray[np.float64], own: int, period: float, c0: float,
+    pos: float,
+    first: int,
+    last: int,
+    src: NDArray[np.int64],
+    src_pos: NDArray[np.float64],
+    src_a: NDArray[np.float64],
+    src_q: NDArray[np.float64],
+    own: int,
+    period: float,
+    c0: float,
     reach: float,
 ) -> float:  # pragma: no cover - compiled
     """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``.
@@ -681,10 +753,23 @@ def _neighbour_slope(
 
 @numba.njit(cache=True, nogil=True)
 def _punch(
-    slope: NDArray[np.float64], curvature: NDArray[np.float64], x: float, dx: float, b: float,
-    c: float, e_star: float, sines: NDArray[np.float64], weights: NDArray[np.float64],
-    first: int, last: int, src: NDArray[np.int64], src_pos: NDArray[np.float64],
-    src_a: NDArray[np.float64], src_q: NDArray[np.float64], own: int, period: float,
+    slope: NDArray[np.float64],
+    curvature: NDArray[np.float64],
+    x: float,
+    dx: float,
+    b: float,
+    c: float,
+    e_star: float,
+    sines: NDArray[np.float64],
+    weights: NDArray[np.float64],
+    first: int,
+    last: int,
+    src: NDArray[np.int64],
+    src_pos: NDArray[np.float64],
+    src_a: NDArray[np.float64],
+    src_q: NDArray[np.float64],
+    own: int,
+    period: float,
 ) -> tuple[float, float]:  # pragma: no cover - compiled
     """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
 
@@ -733,23 +818,36 @@ def _punch(
 
 
 @numba.njit(cache=True, nogil=True)
-def _bridges(x_sorted: NDArray[np.float64], x: float, c: float, b: float) -> bool:  # pragma: no cover
+def _bridges(
+    x_sorted: NDArray[np.float64], x: float, c: float, b: float
+) -> bool:  # pragma: no cover
     """Does the interval [x + c − b, x + c + b] contain another contact's summit?"""
     centre = x + c
     inside = np.searchsorted(x_sorted, centre + b) - np.searchsorted(x_sorted, centre - b)
     if abs(x - centre) < b:
         inside -= 1
-    return inside > 0
+    return bool(inside > 0)
 
 
 @numba.njit(cache=True, nogil=True)
 def _profile_widths(
-    load: NDArray[np.float64], a_hertz: NDArray[np.float64], x: NDArray[np.float64],
-    b_start: NDArray[np.float64], c_start: NDArray[np.float64], slope: NDArray[np.float64],
-    curvature: NDArray[np.float64], dx: float, e_star: float,
-    sines: NDArray[np.float64], weights: NDArray[np.float64], start: NDArray[np.int64],
-    src: NDArray[np.int64], src_pos: NDArray[np.float64], src_a: NDArray[np.float64],
-    src_q: NDArray[np.float64], period: float,
+    load: NDArray[np.float64],
+    a_hertz: NDArray[np.float64],
+    x: NDArray[np.float64],
+    b_start: NDArray[np.float64],
+    c_start: NDArray[np.float64],
+    slope: NDArray[np.float64],
+    curvature: NDArray[np.float64],
+    dx: float,
+    e_star: float,
+    sines: NDArray[np.float64],
+    weights: NDArray[np.float64],
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    src_pos: NDArray[np.float64],
+    src_a: NDArray[np.float64],
+    src_q: NDArray[np.float64],
+    period: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
     """Half-widths and centre shifts at which each contact's punch load equals its load.
 
@@ -771,8 +869,25 @@ def _profile_widths(
         p_old = 0.0
         ok = False
         for _ in range(40):
-            c, p = _punch(slope, curvature, x[i], dx, b, c, e_star, sines, weights, start[i],
-                          start[i + 1], src, src_pos, src_a, src_q, i, period)
+            c, p = _punch(
+                slope,
+                curvature,
+                x[i],
+                dx,
+                b,
+                c,
+                e_star,
+                sines,
+                weights,
+                start[i],
+                start[i + 1],
+                src,
+                src_pos,
+                src_a,
+                src_q,
+                i,
+                period,
+            )
             if math.isnan(p) or p <= 0.0:
                 break
             if abs(p / target - 1.0) <= 1e-6:
@@ -803,7 +918,9 @@ def _profile_widths(
 class _Widths:
     """Contact half-widths from the loads: Hertz (tip curvature) or the local punch profile."""
 
-    def __init__(self, slope: NDArray[np.float64] | None, dx: float, e_star: float, floor: float) -> None:
+    def __init__(
+        self, slope: NDArray[np.float64] | None, dx: float, e_star: float, floor: float
+    ) -> None:
         self.slope = slope
         self.curvature = None if slope is None else np.gradient(slope, dx)
         self.dx = dx
@@ -814,8 +931,13 @@ class _Widths:
         self.weights = 0.5 * np.pi * weights
 
     def __call__(
-        self, load: NDArray[np.float64], reff: NDArray[np.float64], x: NDArray[np.float64],
-        b_start: NDArray[np.float64], c_start: NDArray[np.float64], op: _Operator | None = None,
+        self,
+        load: NDArray[np.float64],
+        reff: NDArray[np.float64],
+        x: NDArray[np.float64],
+        b_start: NDArray[np.float64],
+        c_start: NDArray[np.float64],
+        op: _Operator | None = None,
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         a = _hertz_width(load, reff, self.e_star, self.floor)
         if self.slope is None or self.curvature is None:
@@ -829,9 +951,25 @@ class _Widths:
             start, src, src_pos, src_a = op.start, op.src, op.pos, op.a
             src_q = op.ez_src * load[op.owner]
             period = op.period
-        b, c = _profile_widths(load, a, x, b_start, c_start, self.slope, self.curvature,
-                               self.dx, self.e_star, self.sines, self.weights, start, src,
-                               src_pos, src_a, src_q, period)  # fmt: skip
+        b, c = _profile_widths(
+            load,
+            a,
+            x,
+            b_start,
+            c_start,
+            self.slope,
+            self.curvature,
+            self.dx,
+            self.e_star,
+            self.sines,
+            self.weights,
+            start,
+            src,
+            src_pos,
+            src_a,
+            src_q,
+            period,
+        )
         return np.maximum(b, self.floor), c
 
 
@@ -860,8 +998,11 @@ def solve_contacts(
     floor = widths.floor
     load = initial.copy()
     fresh = b_start <= 0.0
-    a = np.where(fresh, _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff,
-                                     e_star, floor), b_start)  # fmt: skip
+    a = np.where(
+        fresh,
+        _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff, e_star, floor),
+        b_start,
+    )
     c = np.where(fresh, 0.0, c_start)
     total = 0
     for _ in range(outer):
@@ -921,9 +1062,14 @@ def extended_geometry(
         else float(final_displacement)
     )
     geometry, stats = contact_geometry(
-        lower, upper, steps=steps, final_displacement=final * (1.0 + reach),
-        final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
-    )  # fmt: skip
+        lower,
+        upper,
+        steps=steps,
+        final_displacement=final * (1.0 + reach),
+        final_displacement_factor=final_displacement_factor,
+        alpha=alpha,
+        x0=x0,
+    )
     displacement = final * np.arange(steps + 1) / steps
     return replace(geometry, displacement=displacement), stats
 
@@ -991,10 +1137,9 @@ def interacting_loading(
         # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
         # gap′ = −f_l′ − f_u′ = n_x/n_z − m_x/m_z; NaN where the gap never closes
         slope = np.full(n, np.nan)
-        slope[np.asarray(geometry.point)] = (
-            np.asarray(geometry.n_x) / np.asarray(geometry.n_z)
-            - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
-        )
+        slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
+            geometry.n_z
+        ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
     widths = _Widths(slope, dx, e_star, floor)
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
@@ -1016,11 +1161,22 @@ def interacting_loading(
     tangential = np.zeros(n_cand)
     width_all = np.zeros(n_cand)
     shift_all = np.zeros(n_cand)
-    names = ("normal_force", "tangential_force", "contact_area", "normal_force_normal_part",
-             "normal_force_tangential_part", "contact_length")  # fmt: skip
+    names = (
+        "normal_force",
+        "tangential_force",
+        "contact_area",
+        "normal_force_normal_part",
+        "normal_force_tangential_part",
+        "contact_length",
+    )
     curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
-    for k in ("n_contacts", "n_tilted_contacts", "n_patches", "interaction_iterations",
-              "reach_exceeded"):  # fmt: skip
+    for k in (
+        "n_contacts",
+        "n_tilted_contacts",
+        "n_patches",
+        "interaction_iterations",
+        "reach_exceeded",
+    ):
         curves[k] = np.zeros(n_steps, dtype=np.int64)
     contacts: list[dict[str, NDArray[Any]]] = []
     point_x = np.asarray(geometry.point, dtype=np.float64) * dx
@@ -1039,10 +1195,28 @@ def interacting_loading(
             curves["reach_exceeded"][step] = 1
         n_active = int(np.searchsorted(closing_gap, threshold, side="right"))
         count = _accept(
-            d, -margin, field, field_cell, point_x, n_active, geometry.gap0, geometry.curvature_lower,
-            geometry.curvature_upper, geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, dx,
-            idx, delta, ex, ez, reff, offset, offset_z,
-        )  # fmt: skip
+            d,
+            -margin,
+            field,
+            field_cell,
+            point_x,
+            n_active,
+            geometry.gap0,
+            geometry.curvature_lower,
+            geometry.curvature_upper,
+            geometry.m_x,
+            geometry.m_z,
+            geometry.n_x,
+            geometry.n_z,
+            dx,
+            idx,
+            delta,
+            ex,
+            ez,
+            reff,
+            offset,
+            offset_z,
+        )
         j = idx[:count].copy()
         previous = load_all[j]
         older = older_all[j]
@@ -1068,13 +1242,25 @@ def interacting_loading(
         last_increment = increment
         # and the widths with them (a ∝ √P near a smooth summit)
         grown = (previous > 0.0) & (guess > 0.0)
-        b_start = np.where(grown, b_start * np.sqrt(np.where(grown, guess, 1.0) /
-                                                    np.where(grown, previous, 1.0)), b_start)  # fmt: skip
+        b_start = np.where(
+            grown,
+            b_start * np.sqrt(np.where(grown, guess, 1.0) / np.where(grown, previous, 1.0)),
+            b_start,
+        )
         load, a, shift, iterations = solve_contacts(
-            op, x, delta[:count].copy(), ez[:count].copy(), reff[:count].copy(),
-            np.clip(guess, 0.0, None), b_start, c_start, e_star, widths, settings.tol,
+            op,
+            x,
+            delta[:count].copy(),
+            ez[:count].copy(),
+            reff[:count].copy(),
+            np.clip(guess, 0.0, None),
+            b_start,
+            c_start,
+            e_star,
+            widths,
+            settings.tol,
             settings.width_iterations,
-        )  # fmt: skip
+        )
         width_all[j] = np.where(load > 0.0, a, 0.0)
         shift_all[j] = np.where(load > 0.0, shift, 0.0)
         x = x + shift
