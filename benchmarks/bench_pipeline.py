@@ -37,7 +37,7 @@ def _one_realization(n_points: int, seed: int) -> dict[str, float]:
     t1 = time.perf_counter()
     fits = (fit_spline(lower), fit_spline(upper))
     t2 = time.perf_counter()
-    geometry, _ = contact_geometry(
+    geometry = contact_geometry(
         lower,
         upper,
         steps=1000,

@@ -42,7 +42,7 @@ def one(n_points: int, seed: int) -> dict[str, dict[str, float]]:
         lambda: weierstrass_mandelbrot_pair(1.5, seed=seed, n_points=n_points, length=length)
     )
     fits, times["spline"] = _timed(lambda: (fit_spline(lower), fit_spline(upper)))
-    (geometry, _), times["geometry"] = _timed(
+    geometry, times["geometry"] = _timed(
         lambda: contact_geometry(
             lower,
             upper,

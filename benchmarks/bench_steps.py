@@ -21,7 +21,7 @@ def main() -> None:
     print("| steps | Σ visits | loop [ms] | ns per visit | points × steps |")
     print("|---|---|---|---|---|")
     for steps in (100, 1000, 10_000, 100_000):
-        geometry, _ = contact_geometry(
+        geometry = contact_geometry(
             lower, upper, steps=steps, final_displacement=None, final_displacement_factor=0.2,
             alpha=2.0, x0=1.0,
         )  # fmt: skip

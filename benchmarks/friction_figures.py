@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from splinecontact import Segment, simulate, weierstrass_mandelbrot_pair
-from splinecontact.friction import (
+from splinecontact.analysis import (
     friction_study,
     mindlin_stiffness_ratio,
     normal_stiffness,
@@ -25,7 +25,7 @@ from splinecontact.friction import (
     tangential_stiffness,
 )
 from splinecontact.outputs import atomic_path, check_output_file
-from splinecontact.plotting_friction import plot_friction_loop, plot_study_vs_dimension
+from splinecontact.plotting import plot_friction_loop, plot_study_vs_dimension
 
 FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures"
 N_POINTS, LENGTH = 100_000, 10.0

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 
-from splinecontact.friction import friction_study
+from splinecontact.analysis import friction_study
 
 HEADER = (
     "| D | contact | F_N [mN/µm] | μ_s | k_T/k_N | dissipation per cycle [mN·µm/µm] "

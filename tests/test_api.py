@@ -24,18 +24,18 @@ DOCUMENTED_MODULES = {
     "analysis",
     "bem",
     "compare",
-    "config",
+    "contact",
     "diagnostics",
-    "friction",
     "generate",
     "io",
-    "loadpath",
     "outputs",
+    "parameters",
     "plotting",
     "preprocess",
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 }
@@ -62,7 +62,7 @@ def test_dir_shows_the_public_names_and_documented_modules_only() -> None:
     names = set(dir(splinecontact))
     assert names - set(splinecontact.__all__) == DOCUMENTED_MODULES
     assert set(splinecontact.__all__) <= names
-    for stray in ("annotations", "version", "PackageNotFoundError", "contact", "spline"):
+    for stray in ("annotations", "version", "PackageNotFoundError", "loadpath", "spline"):
         assert stray not in names
 
 

@@ -77,7 +77,7 @@ def test_step_ceiling_can_be_raised(pair: tuple[Profile, Profile]) -> None:
 def test_recording_too_many_contacts_is_refused(
     pair: tuple[Profile, Profile], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import splinecontact.contact as contact
+    import splinecontact.contact.simulation as contact
 
     monkeypatch.setattr(contact, "MAX_RECORDED_CONTACTS", 10)
     with pytest.raises(ParameterError, match="record fewer steps"):

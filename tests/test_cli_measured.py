@@ -260,7 +260,7 @@ def test_every_body_command_takes_the_same_reading_options() -> None:
 
 def test_generated_keys_are_the_study_parameter_names() -> None:
     from splinecontact.cli._common import _GENERATED_KEYS
-    from splinecontact.config import PARAMETERS
+    from splinecontact.parameters import PARAMETERS
 
     assert set(_GENERATED_KEYS) - {"seed"} <= set(PARAMETERS)
 

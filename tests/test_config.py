@@ -9,14 +9,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.config import (
+from splinecontact.errors import StudyConfigError
+from splinecontact.study.config import (
     PARAMETERS,
     StudyConfig,
     format_toml_value,
     load_study,
     parse_study,
 )
-from splinecontact.errors import StudyConfigError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

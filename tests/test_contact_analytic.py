@@ -102,7 +102,7 @@ def test_concave_concave_and_wide_cup_are_rejected() -> None:
     ball_wide = Profile(x, circle_cap(x, 3.0))
     cup_narrow = Profile(x, circle_cup(x, 1.0))
     for lower, upper in ((cup_narrow, ball_wide), (cup_narrow, cup_narrow)):
-        geometry, _ = contact_geometry(
+        geometry = contact_geometry(
             lower,
             upper,
             steps=5,

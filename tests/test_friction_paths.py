@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from splinecontact import Profile, Segment, simulate
-from splinecontact.friction import dissipated_energy, driver_work, segment_steps
+from splinecontact.analysis import dissipated_energy, driver_work, segment_steps
 
 from conftest import ANGSTROM, circle_cap
 

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from splinecontact import Profile, Segment, simulate, weierstrass_mandelbrot_pair
-from splinecontact.friction import (
+from splinecontact.analysis import (
     dilatancy,
     dissipated_energy,
     driver_work,
@@ -214,7 +214,7 @@ def test_force_control_on_a_rough_pair_records_its_misses() -> None:
 
 
 def test_friction_study_ensemble_on_a_flat_gives_mu0_and_the_spring_ratio() -> None:
-    from splinecontact.friction import friction_study
+    from splinecontact.analysis import friction_study
 
     ds = friction_study([1.4, 1.6], [1, 2], flat=True, n_points=4000, length=0.4, travel=0.01)
     assert ds["mu_s"].dims == ("dimension", "realization")

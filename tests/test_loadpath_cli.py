@@ -11,8 +11,8 @@ from typer.testing import CliRunner
 
 from splinecontact import Segment, simulate
 from splinecontact.cli import app
-from splinecontact.loadpath import LoadPathError, parse_path
-from splinecontact.plotting_friction import plot_friction_loop, plot_path_history
+from splinecontact.contact import LoadPathError, parse_path
+from splinecontact.plotting import plot_friction_loop, plot_path_history
 
 from conftest import ANGSTROM, circle_cap
 

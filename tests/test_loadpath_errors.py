@@ -17,8 +17,8 @@ from splinecontact import (
     simulate,
     weierstrass_mandelbrot_pair,
 )
-from splinecontact.friction import FrictionAnalysisError, dilatancy, static_friction
-from splinecontact.loadpath import ForceControlError, LoadPathError
+from splinecontact.analysis import FrictionAnalysisError, dilatancy, static_friction
+from splinecontact.contact import ForceControlError, LoadPathError
 from splinecontact.results import PATH_STEP_VARIABLES, STEP_VARIABLES
 
 from conftest import ANGSTROM, circle_cap, circle_cup

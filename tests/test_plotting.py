@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from splinecontact import analysis, plotting
@@ -21,11 +22,11 @@ def study() -> xr.Dataset:
     )
 
 
-def _axes() -> plotting.Axes:
+def _axes() -> Axes:
     return Figure().add_subplot()
 
 
-def _assert_labelled(ax: plotting.Axes) -> None:
+def _assert_labelled(ax: Axes) -> None:
     assert "[" in ax.get_xlabel() and "]" in ax.get_xlabel()
     assert "[" in ax.get_ylabel() and "]" in ax.get_ylabel()
 
@@ -138,12 +139,15 @@ def test_profile_figures_draw(tmp_path: Path) -> None:
 
 @pytest.mark.slow  # renders and writes full figure sets (seconds each)
 def test_illustrative_figures_small(tmp_path: Path) -> None:
-    written, hurst = plotting.make_illustrative_figures(
-        tmp_path,
+    from splinecontact.reproduce.figures import illustrative_inputs
+
+    inputs = illustrative_inputs(
         dimensions=(1.2, 1.6),
         params={"n_points": 4000, "length": 4.0, "steps": 40},
         focus_dimension=1.4,
     )
+    written = plotting.make_illustrative_figures(inputs, tmp_path)
+    hurst = dict(zip(inputs.dimensions, analysis.measured_hurst(inputs.profiles), strict=True))
     assert set(written) == {
         "fig03_profiles",
         "fig04_spline_alpha",
@@ -158,11 +162,31 @@ def test_illustrative_figures_small(tmp_path: Path) -> None:
     assert hurst[1.2] > hurst[1.6]
 
 
+def test_svg_files_are_reproducible_and_png_pixels_do_not_depend_on_compression(
+    tmp_path: Path,
+) -> None:
+    """Same figure, same SVG bytes (no date); PNG written losslessly whatever the level."""
+    from PIL import Image
+
+    ax = plotting.new_axes(figsize=(2, 1.5))
+    ax.plot([0, 1, 2], [0, 1, 0])
+    fig = ax.figure
+    assert isinstance(fig, Figure)
+    first = plotting.save_figure(fig, tmp_path / "a")
+    second = plotting.save_figure(fig, tmp_path / "b")
+    assert first[1].read_bytes() == second[1].read_bytes()
+    assert b"<dc:date>" not in first[1].read_bytes()
+    fig.savefig(tmp_path / "c.png", dpi=150)  # matplotlib's default compression
+    ours = np.asarray(Image.open(first[0]))
+    default = np.asarray(Image.open(tmp_path / "c.png"))
+    assert ours.shape == default.shape and (ours == default).all()
+
+
 def test_decimate_keeps_extremes() -> None:
     x = np.linspace(0, 1, 100_000)
     z = np.sin(50 * x)
     z[12345] = 7.0
-    xd, zd = plotting._decimate(x, z, max_points=1000)
+    xd, zd = plotting.decimate(x, z, max_points=1000)
     assert xd.size <= 1000
     assert zd.max() == 7.0
     assert zd.min() == pytest.approx(z.min())
@@ -195,11 +219,48 @@ def test_importing_plotting_keeps_the_users_backend() -> None:
     assert out.stdout.strip() == "ok"
 
 
+def _plotting_sources() -> dict[str, str]:
+    folder = Path(plotting.__file__).parent
+    return {p.name: p.read_text(encoding="utf-8") for p in sorted(folder.glob("*.py"))}
+
+
 def test_plotting_module_does_not_call_matplotlib_use() -> None:
-    source = Path(plotting.__file__).read_text(encoding="utf-8")
-    assert "matplotlib.use(" not in source
-    assert "import matplotlib.pyplot" not in source
-    assert "from matplotlib import pyplot" not in source
+    sources = _plotting_sources()
+    assert len(sources) > 1  # the package, not one file
+    for name, source in sources.items():
+        assert "matplotlib.use(" not in source, name
+        assert "import matplotlib.pyplot" not in source, name
+        assert "from matplotlib import pyplot" not in source, name
+
+
+def test_plotting_never_generates_and_imports_nothing_above_it() -> None:
+    """Plotting draws what it is given: no generation, fitting or simulation, no upward import."""
+    import ast
+
+    makers = {
+        "weierstrass_mandelbrot",
+        "weierstrass_mandelbrot_pair",
+        "fit_spline",
+        "simulate",
+        "run_study",
+        "study_hurst",
+        "measured_hurst",
+    }
+    above = {"reproduce", "cli"}
+    for name, source in _plotting_sources().items():
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom):
+                parts = (node.module or "").split(".")
+                module = parts[1] if node.level == 0 and parts[0] == "splinecontact" else parts[0]
+                assert module not in above, f"plotting/{name} imports {module}"
+                imported = {a.name for a in node.names}
+                assert not imported & makers, f"plotting/{name} imports {imported & makers}"
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    parts = alias.name.split(".")
+                    assert not (parts[0] == "splinecontact" and set(parts[1:2]) & above), name
+            elif isinstance(node, ast.Attribute):
+                assert node.attr not in makers, f"plotting/{name} calls .{node.attr}"
 
 
 def test_write_figures_follows_the_output_rule(tmp_path: Path) -> None:
@@ -252,3 +313,81 @@ def test_drawable_study_degenerate_cases(study: xr.Dataset) -> None:
     assert kept.sizes["dimension"] == 1
     figures = plotting.study_figures(kept)
     assert {"fig10", "fig11", "fig12_kappa", "diag_force_split"} <= set(figures)
+
+
+# --- illustrative figures: profiles made once above, handed down -----------------------------
+
+SMALL = {"n_points": 4000, "length": 4.0, "steps": 40}
+
+
+@pytest.fixture(scope="module")
+def counted_inputs() -> tuple[plotting.IllustrativeInputs, int]:
+    import splinecontact.generate as generate
+    from splinecontact.reproduce.figures import illustrative_inputs
+
+    calls = 0
+    original = generate.weierstrass_mandelbrot
+
+    def counting(*args: object, **kwargs: object) -> object:
+        nonlocal calls
+        calls += 1
+        return original(*args, **kwargs)  # type: ignore[arg-type]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(generate, "weierstrass_mandelbrot", counting)
+        inputs = illustrative_inputs(
+            dimensions=(1.2, 1.4, 1.6), params=SMALL, seed=7, study_seed=True
+        )
+    return inputs, calls
+
+
+def test_each_illustrative_profile_is_generated_once(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int],
+) -> None:
+    inputs, calls = counted_inputs
+    # one lower profile per D (the one at the focus D is the pair's lower profile) + the upper
+    assert calls == len(inputs.dimensions) + 1
+    assert inputs.lower is inputs.profiles[inputs.dimensions.index(1.4)]
+    assert [f.alpha for f in inputs.fits] == [1.0, 2.0, 3.0]
+    assert inputs.lower_fit is inputs.fits[1]  # the simulation's α = 2 reused, not refitted
+    assert inputs.record.step == 10 and inputs.displacement > 0
+
+
+def test_illustrative_figures_draw_only_what_they_are_given(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import splinecontact.contact as contact
+    import splinecontact.generate as generate
+    import splinecontact.spline as spline
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise AssertionError("plotting generated, fitted or simulated")
+
+    for module, name in (
+        (generate, "weierstrass_mandelbrot"),
+        (spline, "fit_spline"),
+        (contact, "simulate"),
+    ):
+        monkeypatch.setattr(module, name, refuse)
+    inputs, _ = counted_inputs
+    figures = plotting.illustrative_figures(inputs)
+    assert set(figures) == {
+        "fig03_profiles",
+        "fig04_spline_alpha",
+        "fig05_spheres",
+        "fig08_first_contact",
+        "fig09_contact_zoom",
+    }
+    assert all(isinstance(f, Figure) for f in figures.values())
+    labels = [t.get_text() for t in figures["fig03_profiles"].axes[0].texts]
+    assert labels == ["D = 1.2", "D = 1.4", "D = 1.6"]
+
+
+def test_illustrative_inputs_need_one_profile_per_dimension(
+    counted_inputs: tuple[plotting.IllustrativeInputs, int],
+) -> None:
+    import dataclasses
+
+    inputs, _ = counted_inputs
+    with pytest.raises(ParameterError, match="one profile per dimension"):
+        dataclasses.replace(inputs, dimensions=(1.2, 1.4))

@@ -13,8 +13,8 @@ from typer.testing import CliRunner
 
 from splinecontact import reproduce
 from splinecontact.cli import app
-from splinecontact.config import parse_study
 from splinecontact.errors import ParameterError
+from splinecontact.study.config import parse_study
 from test_analysis import E_STAR, make_study
 
 DIMS = (1.2, 1.4, 1.6, 1.7, 1.8, 1.9)
@@ -250,7 +250,7 @@ def test_plot_command_on_a_missing_store(tmp_path: Path) -> None:
 def test_trend_of_means_is_reproducible() -> None:
     rng = np.random.default_rng(0)
     groups = [rng.normal(5 - i, 1, 10) for i in range(5)]
-    from splinecontact.analysis import trend_test
+    from splinecontact.reproduce import trend_test
 
     a = trend_test(np.arange(5.0), groups)
     b = trend_test(np.arange(5.0), groups)

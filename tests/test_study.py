@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 from rich.console import Console
 
-from splinecontact.config import PARAMETERS, parse_study
 from splinecontact.errors import StudyStoreError
 from splinecontact.generate import child_seed, weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 from splinecontact.results import SCALAR_VARIABLES, STEP_VARIABLES
@@ -26,7 +25,6 @@ from splinecontact.study import (
     STATUS_FAILED,
     STATUS_OK,
     StudyExecutionError,
-    _locked,
     open_study,
     parameter_value,
     print_summary,
@@ -34,6 +32,8 @@ from splinecontact.study import (
     run_study,
     simulate_realization,
 )
+from splinecontact.study.config import PARAMETERS, parse_study
+from splinecontact.study.store import _locked
 
 CLI = [str(Path(sys.executable).parent / "splinecontact")]
 
@@ -450,9 +450,9 @@ def test_batches_straddling_chunks_store_the_same_values(
     """Chunks of 2 realizations, batches of 2 starting at odd offsets after a resume."""
     import zarr
 
-    import splinecontact.study as study
+    import splinecontact.study.store as store
 
-    monkeypatch.setattr(study, "_CHUNK_BYTES", 8 * 21 * 2)
+    monkeypatch.setattr(store, "_CHUNK_BYTES", 8 * 21 * 2)
     out = tmp_path / "chunks.zarr"
     run_study(TINY, out, workers=1, batch_size=1, progress=False)
     assert zarr.open_group(out, mode="r")["normal_force"].chunks == (1, 1, 2, 21)

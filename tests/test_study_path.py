@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from splinecontact import Segment, simulate
-from splinecontact.config import load_study, parse_study
 from splinecontact.errors import StudyConfigError
 from splinecontact.generate import weierstrass_mandelbrot_pair
 from splinecontact.results import PATH_STEP_VARIABLES, STEP_VARIABLES
 from splinecontact.study import open_study, realization_seed, run_study
+from splinecontact.study.config import load_study, parse_study
 
 PATH = [
     {"normal": 0.004, "steps": 6},

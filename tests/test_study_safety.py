@@ -23,7 +23,8 @@ import numpy as np
 import pytest
 
 import splinecontact.study as study
-from splinecontact.config import StudyLimits, check_limits, parse_study
+import splinecontact.study.export as study_export
+import splinecontact.study.store as study_store
 from splinecontact.errors import (
     OutputError,
     OutputExistsError,
@@ -34,10 +35,13 @@ from splinecontact.errors import (
 )
 from splinecontact.results import SCALAR_VARIABLES, STEP_VARIABLES
 from splinecontact.study import (
+    StudyLimits,
     StudyProgress,
     StudyProgressBar,
+    check_limits,
     export_netcdf,
     open_study,
+    parse_study,
     run_study,
 )
 
@@ -225,16 +229,16 @@ def test_losing_the_race_to_create_a_store_resumes_the_winners_store(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     out = tmp_path / "race.zarr"
-    template = study._template
+    template = study_store._template
     config = parse_study(SMALL)
 
     def winner_first(cfg: Any) -> Any:
         if not out.exists():
-            monkeypatch.setattr(study, "_template", template)
-            assert study._create_store(out, config)  # the other run renames its store first
+            monkeypatch.setattr(study_store, "_template", template)
+            assert study_store._create_store(out, config)  # the other run renames its store first
         return template(cfg)
 
-    monkeypatch.setattr(study, "_template", winner_first)
+    monkeypatch.setattr(study_store, "_template", winner_first)
     summary = run(SMALL, out)
     assert summary.complete and summary.ran_now == 6
     assert sorted(p.name for p in tmp_path.iterdir()) == ["race.zarr"]
@@ -401,7 +405,7 @@ def test_export_on_a_full_disk_leaves_no_file_and_keeps_the_earlier_one(
             file.write(bytes(data)[: len(data) // 2])
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(study, "_write_bytes", full_disk)
+    monkeypatch.setattr(study_export, "_write_bytes", full_disk)
     before = tree_hash(tmp_path)
     with pytest.raises(OutputError) as info:
         export_netcdf(store, target, overwrite=True)

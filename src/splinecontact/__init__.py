@@ -8,9 +8,9 @@ Units throughout: lengths µm, moduli GPa, forces mN per µm of out-of-plane thi
 (1 GPa · 1 µm² = 1 mN).
 
 The names of ``__all__`` are the core API. The documented modules ``analysis``, ``bem``,
-``compare``, ``config``, ``diagnostics``, ``friction``, ``generate``, ``io``, ``loadpath``,
-``outputs``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``spectra``
-and ``study`` are imported on first use, so
+``compare``, ``contact``, ``diagnostics``, ``generate``, ``io``, ``outputs``,
+``parameters``, ``plotting``, ``preprocess``, ``reference``, ``reproduce``, ``results``, ``schema``,
+``spectra`` and ``study`` are imported on first use, so
 ``splinecontact.study.run_study`` works after a plain ``import splinecontact``.
 """
 
@@ -25,11 +25,11 @@ from .errors import __all__ as _errors_all
 
 if TYPE_CHECKING:
     from .compare import compare_profiles as compare_profiles
+    from .contact import Segment as Segment
     from .contact import simulate as simulate
     from .generate import weierstrass_mandelbrot as weierstrass_mandelbrot
     from .generate import weierstrass_mandelbrot_pair as weierstrass_mandelbrot_pair
     from .io import read_profile as read_profile
-    from .loadpath import Segment as Segment
     from .profile import Profile as Profile
     from .results import ContactRecord as ContactRecord
     from .results import SimulationResult as SimulationResult
@@ -43,7 +43,7 @@ if TYPE_CHECKING:
 _LAZY: dict[str, str] = {
     "ContactRecord": "results",
     "Profile": "profile",
-    "Segment": "loadpath",
+    "Segment": "contact",
     "SimulationResult": "results",
     "SplineFit": "spline",
     "SurfaceSpheres": "spheres",
@@ -63,18 +63,18 @@ _SUBMODULES = (
     "analysis",
     "bem",
     "compare",
-    "config",
+    "contact",
     "diagnostics",
-    "friction",
     "generate",
     "io",
-    "loadpath",
     "outputs",
+    "parameters",
     "plotting",
     "preprocess",
     "reference",
     "reproduce",
     "results",
+    "schema",
     "spectra",
     "study",
 )

@@ -42,15 +42,27 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numba
 import numpy as np
 import scipy.fft as sfft
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import BEMError, NoConvergenceError
+from . import schema
+from .errors import (
+    BEMGridError,
+    BEMInputError,
+    BEMParameterError,
+    FullContactError,
+    NegativeLoadError,
+    NoConvergenceError,
+    NonPeriodicProfileError,
+)
 from .profile import Profile
+
+if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
+    import xarray as xr
 
 __all__ = [
     "DEFAULT_MAX_ITERATIONS",
@@ -89,33 +101,6 @@ DEFAULT_MAX_ITERATIONS = 100_000
 #: A profile is periodic-compatible when its wrap-around step |z[0] − z[n−1]| is at most this
 #: factor times the largest step between neighbours inside the profile.
 PERIODIC_JUMP_FACTOR = 2.0
-
-
-# --- errors ---------------------------------------------------------------------------------
-
-
-class BEMInputError(BEMError, ValueError):
-    """Bad input to the boundary element solver (base of the specific errors below)."""
-
-
-class BEMGridError(BEMInputError):
-    """The grid cannot be used: too few points, bad spacing, mismatched bodies, NaN heights."""
-
-
-class NonPeriodicProfileError(BEMGridError):
-    """The profile does not wrap around smoothly, so it cannot be one period of a surface."""
-
-
-class BEMParameterError(BEMInputError):
-    """A solver parameter (E*, tolerance, iteration limit) is out of range."""
-
-
-class NegativeLoadError(BEMInputError):
-    """A negative mean pressure or force was requested (the contact is non-adhesive)."""
-
-
-class FullContactError(BEMInputError):
-    """The load or mean gap asked for lies at or beyond full contact."""
 
 
 # --- the problem ----------------------------------------------------------------------------
@@ -463,19 +448,9 @@ class BEMStep:
     gap: NDArray[np.float64] | None = field(default=None, repr=False)
 
 
-#: Per-step quantities of :class:`BEMPath` with their units (the column schema of tables).
-STEP_UNITS: dict[str, str] = {
-    "mean_pressure": "GPa",
-    "force": "mN/µm",
-    "mean_gap": "µm",
-    "approach": "µm",
-    "contact_nodes": "1",
-    "contact_length": "µm",
-    "contact_length_subgrid": "µm",
-    "n_patches": "1",
-    "iterations": "1",
-    "residual": "1",
-}
+#: Per-step quantities of :class:`BEMPath` with their units (the column schema of tables;
+#: defined in :mod:`splinecontact.schema`, table ``bem_step``).
+STEP_UNITS: dict[str, str] = {name: v.units for name, v in schema.table("bem_step").items()}
 
 
 @dataclass(frozen=True, eq=False)
@@ -512,6 +487,35 @@ class BEMPath:
     def length(self) -> float:
         """Period L [µm]."""
         return float(self.n_points * self.dx)
+
+    def to_xarray(self) -> xr.Dataset:
+        """Return the path as an :class:`xarray.Dataset` (dimension ``load``, one per step).
+
+        Every quantity of ``STEP_UNITS`` is a variable with ``units`` and ``long_name``
+        (:mod:`splinecontact.schema`); the attributes hold ``e_star`` [GPa], ``dx`` [µm],
+        ``n_points``, ``length`` [µm] and ``tolerance``. The nodal fields are not included.
+        """
+        import xarray as xr
+
+        data_vars = {
+            name: schema.xr_variable(
+                name,
+                np.array([getattr(s, name) for s in self.steps], dtype=variable.dtype),
+            )
+            for name, variable in schema.table("bem_step").items()
+        }
+        attrs = {
+            "e_star_GPa": float(self.e_star),
+            "dx_um": float(self.dx),
+            "n_points": int(self.n_points),
+            "length_um": self.length,
+            "tolerance": float(self.tolerance),
+            "units_convention": (
+                "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
+            ),
+        }
+        coords = {"load": schema.coordinate("load", len(self.steps))}
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
 # --- solvers --------------------------------------------------------------------------------
@@ -1210,6 +1214,24 @@ def load_path(
         For the first offending step, before anything is solved.
     NoConvergenceError
         A step did not converge.
+
+    Examples
+    --------
+    A sinusoid pressed flat (Westergaard): p̄/p* = sin²(πa/λ), so at half the full-contact
+    pressure p* the contact covers half the wavelength.
+
+    >>> import numpy as np
+    >>> from splinecontact import bem
+    >>> n, wavelength = 256, 10.0
+    >>> x = np.arange(n) * (wavelength / n)
+    >>> z = 0.01 * np.cos(2 * np.pi * x / wavelength)
+    >>> problem = bem.contact_problem(z, e_star=10.0, dx=wavelength / n)
+    >>> path = bem.load_path(problem, [0.25 * problem.full_contact_pressure,
+    ...                                0.5 * problem.full_contact_pressure])
+    >>> round(path.steps[-1].contact_length_subgrid, 1), path.steps[-1].n_patches
+    (5.0, 1)
+    >>> path.to_xarray()["contact_length_subgrid"].attrs["units"]
+    'µm'
     """
     _check_solver_args(tol, max_iterations)
     loads = [_check_load(problem, p) for p in np.asarray(mean_pressures, dtype=np.float64)]

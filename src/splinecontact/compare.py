@@ -25,14 +25,17 @@ import csv
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from . import bem
+from . import bem, schema
 from .errors import NoConvergenceError, ParameterError
 from .profile import Profile
+
+if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
+    import xarray as xr
 
 __all__ = [
     "COLUMNS",
@@ -56,26 +59,9 @@ COMPARE_MAX_ITERATIONS = 5000
 #: Halvings of a load step tried when a BEM solve does not converge.
 MAX_BISECTIONS = 2
 
-#: Columns of the comparison table: name -> (units, description).
-COLUMNS: dict[str, tuple[str, str]] = {
-    "force": ("mN/µm", "normal force per unit thickness (SAD F_N; the BEM is solved at it)"),
-    "sad_step": ("1", "SAD displacement step"),
-    "sad_displacement": ("µm", "SAD displacement δ_N from first contact"),
-    "sad_contact_width": ("µm", "SAD Hertz contact width Σ 2a_i = √2 A_S"),
-    "sad_contact_area": ("µm", "SAD A_S = Σ √(δ_i R_eff,i) (paper's definition)"),
-    "sad_n_contacts": ("1", "SAD accepted contacts"),
-    "sad_mean_separation": ("µm", "SAD mean separation of the (rigid) mean lines"),
-    "bem_contact_length": ("µm", "exact contact length, loaded nodes × dx"),
-    "bem_contact_length_subgrid": ("µm", "exact contact length, sub-grid edges"),
-    "bem_n_patches": ("1", "exact number of contact patches"),
-    "bem_mean_gap": ("µm", "exact mean gap between the deformed mean lines"),
-    "bem_approach": ("µm", "exact approach (mean-gap reduction) from first contact"),
-    "ratio_width": ("1", "sad_contact_width / bem_contact_length_subgrid"),
-    "ratio_area": ("1", "sad_contact_area / bem_contact_length_subgrid"),
-    "mean_gap_error": ("1", "sad_mean_separation / bem_mean_gap − 1"),
-    "ratio_approach": ("1", "bem_approach / sad_displacement"),
-    "ratio_contacts": ("1", "bem_n_patches / sad_n_contacts"),
-}
+#: Columns of the comparison table: name -> (units, description) (defined in
+#: :mod:`splinecontact.schema`, table ``comparison``).
+COLUMNS: dict[str, tuple[str, str]] = schema.legacy_table("comparison")
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,6 +87,30 @@ class Comparison:
         values = self.columns[name]
         finite = values[np.isfinite(values)]
         return float(np.median(finite)) if finite.size else float("nan")
+
+    def to_xarray(self) -> xr.Dataset:
+        """Return the comparison as an :class:`xarray.Dataset` (dimension ``load``).
+
+        One variable per key of ``COLUMNS`` with ``units`` and ``long_name``
+        (:mod:`splinecontact.schema`); the attributes hold the parameters and the notes.
+        """
+        import xarray as xr
+
+        data_vars = {
+            name: schema.xr_variable(name, np.asarray(self.columns[name], dtype=np.float64))
+            for name in COLUMNS
+        }
+        attrs: dict[str, Any] = {
+            key: value if isinstance(value, int | float | str) else str(value)
+            for key, value in self.parameters.items()
+        }
+        attrs["notes"] = "\n".join(self.notes)
+        attrs["units_convention"] = (
+            "lengths µm, moduli GPa, forces mN per µm of out-of-plane thickness"
+        )
+        n = int(np.size(self.columns["force"]))
+        coords = {"load": schema.coordinate("load", n)}
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
 def _select_steps(force: NDArray[np.float64], n_forces: int) -> NDArray[np.int64]:
@@ -211,6 +221,16 @@ def compare_profiles(
         ``max_contact_fraction``.
     NoConvergenceError
         The BEM did not converge at one force; the message names the force and what to change.
+
+    Examples
+    --------
+    >>> from splinecontact import compare_profiles, weierstrass_mandelbrot
+    >>> profile = weierstrass_mandelbrot(1.5, n_points=1024, length=10.0, seed=3)
+    >>> comparison = compare_profiles(profile, "flat", steps=20, n_forces=3)
+    >>> comparison.columns["force"].size
+    3
+    >>> comparison.to_xarray()["bem_contact_length_subgrid"].attrs["units"]
+    'µm'
     """
     import time
 

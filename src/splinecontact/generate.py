@@ -366,6 +366,15 @@ def weierstrass_mandelbrot(
         n_points < 5, length ≤ 0, γ ≤ 1, a negative seed, ...), a ceiling is exceeded, or the
         parameters would overflow (γ^n_max, the scale L^(4−2D)) or give a profile below the
         rounding error of the sum.
+
+    Examples
+    --------
+    >>> from splinecontact import weierstrass_mandelbrot
+    >>> profile = weierstrass_mandelbrot(1.5, n_points=2048, length=10.0, seed=1)
+    >>> profile.n_points, round(profile.length, 9)
+    (2048, 10.0)
+    >>> round(profile.ra, 9)  # scaled to the requested R_A [µm]
+    0.005
     """
     dimension, n_points, length, wavelength, gamma, directions, n_max, ra = _validate(
         dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law,
@@ -526,6 +535,18 @@ def weierstrass_mandelbrot_pair(
     -------
     (lower, upper) : tuple of Profile
         Both with heights pointing out of their own body, as a profilometer records them.
+
+    Examples
+    --------
+    >>> from splinecontact import weierstrass_mandelbrot_pair
+    >>> lower, upper = weierstrass_mandelbrot_pair(1.5, seed=7, n_points=1024, length=10.0)
+    >>> lower.n_points == upper.n_points == 1024
+    True
+    >>> bool((lower.z != upper.z).any())  # independent phases
+    True
+    >>> again, _ = weierstrass_mandelbrot_pair(1.5, seed=7, n_points=1024, length=10.0)
+    >>> bool((again.z == lower.z).all())  # reproducible from the one seed
+    True
     """
     if isinstance(seed, np.random.Generator):
         raise ParameterError(

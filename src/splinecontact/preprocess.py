@@ -39,12 +39,14 @@ from numpy.polynomial import Polynomial
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import (
-    GridNotIncreasingError,
+    CropError,
+    DuplicatePositionError,
     GridNotUniformError,
-    NonFiniteValueError,
-    ParameterError,
+    GridOrderError,
+    PreprocessingOptionError,
     ProfileError,
     ProfileShapeError,
+    UndefinedPointsError,
 )
 from .profile import MIN_POINTS, UNIFORM_GRID_RTOL, Profile
 
@@ -74,29 +76,6 @@ _FIT_LIMIT = 1e150
 
 #: Default ceiling on the number of points resampling may create (``Preprocessing.max_points``).
 MAX_RESAMPLE_POINTS = 100_000_000
-
-
-# --- errors ---------------------------------------------------------------------------------
-
-
-class UndefinedPointsError(NonFiniteValueError):
-    """The scan has undefined points (NaN, or flagged invalid by the instrument)."""
-
-
-class GridOrderError(GridNotIncreasingError):
-    """``x`` steps back somewhere in the scan."""
-
-
-class DuplicatePositionError(GridNotIncreasingError):
-    """Two or more points share the same ``x``."""
-
-
-class CropError(ProfileError):
-    """The crop range leaves too few points or is not a valid range."""
-
-
-class PreprocessingOptionError(ParameterError):
-    """A preprocessing option has an invalid value."""
 
 
 # --- data -----------------------------------------------------------------------------------
@@ -417,12 +396,11 @@ def _resample(
     z: NDArray[np.float64],
     spacing: float | None,
     max_deviation: float,
-    steps: list[dict[str, Any]],
     max_points: int = MAX_RESAMPLE_POINTS,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, Any]]:
     """Linear interpolation onto a uniform grid (``spacing`` [µm], or as many points as x).
 
-    Appends the ``resample`` step to ``steps`` and returns the new (x, z) [µm].
+    Returns the new (x, z) [µm] and the ``resample`` step record.
     """
     if spacing is None:
         new_x = _uniform_grid(float(x[0]), float(x[-1]), x.size)
@@ -437,17 +415,296 @@ def _resample(
             )
         n_new = int(n_float)
         new_x = x[0] + spacing * np.arange(n_new)
-    steps.append(
-        {
-            "step": "resample",
-            "method": "linear",
-            "n_points_before": int(x.size),
-            "n_points": int(new_x.size),
-            "spacing_um": float((new_x[-1] - new_x[0]) / max(new_x.size - 1, 1)),
-            "max_deviation_before_um": max_deviation,
-        }
+    record = {
+        "step": "resample",
+        "method": "linear",
+        "n_points_before": int(x.size),
+        "n_points": int(new_x.size),
+        "spacing_um": float((new_x[-1] - new_x[0]) / max(new_x.size - 1, 1)),
+        "max_deviation_before_um": max_deviation,
+    }
+    return new_x, np.interp(new_x, x, z), record
+
+
+@dataclass(frozen=True, eq=False)
+class _Scan:
+    """The scan between two steps of :func:`to_profile`: positions and heights [µm], the file
+    line of each point (or ``None``) and the records of the steps applied so far."""
+
+    x: NDArray[np.float64]
+    z: NDArray[np.float64]
+    rows: NDArray[np.int64] | None
+    source: str
+    steps: tuple[dict[str, Any], ...] = ()
+
+    def keep(self, index: Any, record: dict[str, Any] | None = None) -> _Scan:
+        """The points selected by ``index`` (mask, permutation or slice), with ``record``."""
+        return _Scan(
+            self.x[index],
+            self.z[index],
+            None if self.rows is None else self.rows[index],
+            self.source,
+            self.steps if record is None else (*self.steps, record),
+        )
+
+    def with_data(
+        self,
+        x: NDArray[np.float64],
+        z: NDArray[np.float64],
+        record: dict[str, Any],
+        rows: NDArray[np.int64] | Literal["same"] | None = "same",
+    ) -> _Scan:
+        """New positions and heights (file lines unchanged unless given), with ``record``."""
+        return _Scan(
+            x, z, self.rows if isinstance(rows, str) else rows, self.source, (*self.steps, record)
+        )
+
+
+def _start(raw: RawProfile, options: Preprocessing | None) -> tuple[_Scan, Preprocessing]:
+    """Check the arguments of :func:`to_profile`; the scan as read and the policy."""
+    if options is not None and not isinstance(options, Preprocessing):
+        raise PreprocessingOptionError(
+            f"preprocessing={str(options)[:60]!r} is not a Preprocessing(...) policy"
+        )
+    if not isinstance(raw, RawProfile):
+        raise ProfileError(f"to_profile needs a RawProfile, got {type(raw).__name__}")
+    source = _source(raw)
+    earlier = raw.metadata.get("preprocessing", [])
+    if not isinstance(earlier, list) or not all(
+        isinstance(step, Mapping) and isinstance(step.get("step"), str) for step in earlier
+    ):
+        raise ProfileError(
+            f"{source}: metadata['preprocessing'] is {str(earlier)[:60]!r}, not a list of step "
+            "records; the stored metadata is damaged"
+        )
+    rows = None if raw.rows is None else raw.rows.copy()
+    scan = _Scan(raw.x.copy(), raw.z.copy(), rows, source)
+    return scan, options if options is not None else Preprocessing()
+
+
+def _undefined_points(scan: _Scan, raw: RawProfile, opts: Preprocessing) -> _Scan:
+    """Step 1: refuse undefined points, or drop those without a position (heights: step 5)."""
+    x, z = scan.x, scan.z
+    undefined = ~np.isfinite(x) | ~np.isfinite(z)
+    if not undefined.any():
+        return scan
+    if opts.undefined == "refuse":
+        bad = np.flatnonzero(undefined)
+        flagged = raw.metadata.get("n_flagged_invalid", 0)
+        why = f" ({flagged} flagged invalid by the instrument)" if flagged else ""
+        raise UndefinedPointsError(
+            f"{scan.source}: {bad.size} undefined point(s) of {x.size}{why}: "
+            f"{_where(bad, scan.rows, x)}; fill them with undefined='interpolate' "
+            "(CLI: --undefined interpolate) or crop them away"
+        )
+    no_position = ~np.isfinite(x)
+    if not no_position.any():
+        return scan
+    record = {"step": "drop_undefined_positions", "n_dropped": int(no_position.sum())}
+    scan = scan.keep(~no_position, record)
+    if scan.x.size < MIN_POINTS:
+        raise UndefinedPointsError(
+            f"{scan.source}: only {scan.x.size} of {no_position.size} point(s) have a defined "
+            f"position; a profile needs at least {MIN_POINTS} — check the x column"
+        )
+    return scan
+
+
+def _crop(scan: _Scan, opts: Preprocessing) -> _Scan:
+    """Step 2: keep the points with x in ``opts.crop``."""
+    if opts.crop is None:
+        return scan
+    lo, hi = opts.crop
+    x = scan.x
+    keep = (x >= lo) & (x <= hi)
+    if keep.sum() < MIN_POINTS:
+        span = f"x spans {np.min(x):.9g}…{np.max(x):.9g} µm" if x.size else "no points"
+        raise CropError(
+            f"{scan.source}: crop=({lo:g}, {hi:g}) µm keeps {int(keep.sum())} point(s) of "
+            f"{x.size} ({span}); choose a range inside the scan with at least {MIN_POINTS} "
+            "points"
+        )
+    record = {"step": "crop", "x_min_um": lo, "x_max_um": hi, "n_removed": int((~keep).sum())}
+    return scan.keep(keep, record)
+
+
+def _order(scan: _Scan, opts: Preprocessing) -> _Scan:
+    """Step 3: refuse ``x`` stepping back, or sort the points by ``x`` (stable)."""
+    x, rows = scan.x, scan.rows
+    back = np.flatnonzero(np.diff(x) < 0) + 1
+    if not back.size:
+        return scan
+    if opts.order == "refuse":
+        i = int(back[0])
+        line = f" (line {int(rows[i])})" if rows is not None else ""
+        raise GridOrderError(
+            f"{scan.source}: x steps back at index {i}{line}: x[{i - 1}]={x[i - 1]:.9g} µm, "
+            f"x[{i}]={x[i]:.9g} µm ({back.size} step(s) back in total); sort the points "
+            "with order='sort' (CLI: --order sort) or crop to the ordered part (--crop)"
+        )
+    perm = np.argsort(x, kind="stable")
+    return scan.keep(perm, {"step": "sort", "n_steps_back": int(back.size)})
+
+
+def _duplicates(scan: _Scan, opts: Preprocessing) -> _Scan:
+    """Step 4: refuse repeated positions, or average the (defined) heights at each."""
+    x, z, rows = scan.x, scan.z, scan.rows
+    dup = np.flatnonzero(np.diff(x) == 0) + 1
+    if not dup.size:
+        return scan
+    if opts.duplicates == "refuse":
+        i = int(dup[0])
+        line = f" (lines {int(rows[i - 1])} and {int(rows[i])})" if rows is not None else ""
+        raise DuplicatePositionError(
+            f"{scan.source}: x repeats at index {i}{line}: x[{i - 1}] = x[{i}] = {x[i]:.9g} µm "
+            f"({dup.size} repeated position(s) in total); average the heights of repeated "
+            "positions with duplicates='average' (CLI: --duplicates average) or crop them away"
+        )
+    unique_x, inverse = np.unique(x, return_inverse=True)
+    defined = np.isfinite(z)
+    sums = np.bincount(inverse, weights=np.where(defined, z, 0.0), minlength=unique_x.size)
+    counts = np.bincount(inverse, weights=defined.astype(float), minlength=unique_x.size)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        averaged = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    first = np.unique(inverse, return_index=True)[1]
+    record = {"step": "average_duplicates", "n_merged": int(x.size - unique_x.size)}
+    return scan.with_data(unique_x, averaged, record, None if rows is None else rows[first])
+
+
+def _fill_undefined(scan: _Scan) -> _Scan:
+    """Step 5: trim undefined heights at the ends, interpolate the others linearly."""
+    missing = ~np.isfinite(scan.z)
+    if not missing.any():
+        return scan
+    defined = np.flatnonzero(~missing)
+    if defined.size < MIN_POINTS:
+        raise UndefinedPointsError(
+            f"{scan.source}: only {defined.size} defined point(s) remain; nothing to interpolate"
+        )
+    i_first, i_last = int(defined[0]), int(defined[-1])
+    n_trimmed = i_first + (scan.x.size - 1 - i_last)
+    scan = scan.keep(slice(i_first, i_last + 1))
+    x, z = scan.x, scan.z
+    missing = ~np.isfinite(z)
+    n_filled = int(missing.sum())
+    if n_filled:
+        z[missing] = np.interp(x[missing], x[~missing], z[~missing])
+    record = {
+        "step": "interpolate_undefined",
+        "method": "linear",
+        "n_filled": n_filled,
+        "n_trimmed_at_ends": int(n_trimmed),
+    }
+    return _Scan(x, z, scan.rows, scan.source, (*scan.steps, record))
+
+
+def _check_grid_step(scan: _Scan) -> None:
+    """Refuse a mean grid step floating point cannot resolve (before step 6)."""
+    x = scan.x
+    if x.size < 2:
+        return
+    with np.errstate(over="ignore"):
+        mean_step = float((x[-1] - x[0]) / (x.size - 1))
+    if not (np.isfinite(mean_step) and mean_step >= np.finfo(np.float64).tiny):
+        raise GridNotUniformError(
+            f"{scan.source}: the grid step {mean_step!r} µm is beyond the range floating point "
+            f"resolves (x spans {float(x[0]):.3g}…{float(x[-1]):.3g} µm); check the file's "
+            "units and increments"
+        )
+
+
+def _nonuniform_error(
+    scan: _Scan, x_resolution: float, deviation: NDArray[np.float64]
+) -> GridNotUniformError:
+    """The error for a non-uniform grid that is not regularised: where and why."""
+    x, rows = scan.x, scan.rows
+    worst = int(np.argmax(deviation))
+    diffs = np.diff(x)
+    median_step = float(np.median(diffs))
+    mean_step = (x[-1] - x[0]) / (x.size - 1)
+    k = int(np.argmax(np.abs(diffs - mean_step)))
+    line = f" (lines {int(rows[k])}–{int(rows[k + 1])})" if rows is not None else ""
+    resolution = (
+        f", more than the printed resolution {x_resolution:.3g} µm" if x_resolution > 0 else ""
     )
-    return new_x, np.interp(new_x, x, z)
+    gap = np.flatnonzero(np.abs(diffs - median_step) >= 0.5 * median_step)
+    q = mean_step / x_resolution if x_resolution > 0 else np.inf
+    if 2.0 * q < np.floor(q) + 2.0:
+        why = (
+            f"; the positions are printed so coarsely ({x_resolution:.3g} µm for a "
+            f"step of {mean_step:.3g} µm) that a missing sample cannot be told from "
+            "rounding (export more decimals)"
+        )
+    elif gap.size:
+        why = (
+            f"; {gap.size} step(s) differ from the median step {median_step:.9g} µm by "
+            f"half a step or more (first {gap[0]}→{gap[0] + 1}): a sample is missing "
+            "or extra"
+        )
+    else:
+        why = ""
+    return GridNotUniformError(
+        f"{scan.source}: the grid is not uniform: step {k}→{k + 1}{line} is "
+        f"{diffs[k]:.9g} µm but the mean step is {mean_step:.9g} µm; point {worst} "
+        f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}{why}; "
+        "resample with nonuniform='resample' (CLI: --nonuniform resample)"
+    )
+
+
+def _resampled(scan: _Scan, opts: Preprocessing, max_deviation: float) -> _Scan:
+    """``scan`` resampled onto ``opts.resample_spacing`` (file lines no longer apply)."""
+    x, z, record = _resample(scan.x, scan.z, opts.resample_spacing, max_deviation, opts.max_points)
+    return scan.with_data(x, z, record, None)
+
+
+def _grid(scan: _Scan, raw: RawProfile, opts: Preprocessing) -> _Scan:
+    """Step 6: regularise a grid that is uniform up to its printed resolution; refuse or
+    resample any other non-uniform grid; resample a uniform one on an explicit spacing."""
+    _check_grid_step(scan)
+    x = scan.x
+    explicit = opts.resample_spacing is not None and opts.nonuniform == "resample"
+    if x.size < 2:
+        return scan
+    if _is_uniform(x):
+        return _resampled(scan, opts, 0.0) if explicit else scan
+    grid = _uniform_grid(float(x[0]), float(x[-1]), x.size)
+    deviation = np.abs(x - grid)
+    fitted = _least_squares_grid(x)
+    fit_deviation = float(np.max(np.abs(x - fitted)))
+    tolerance = raw.x_resolution * (1 + 1e-9) + 4 * np.finfo(float).eps * np.max(np.abs(x))
+    steps_consistent = _rounded_grid_steps(
+        np.diff(x), float(fitted[1] - fitted[0]), raw.x_resolution
+    )
+    if raw.x_resolution > 0 and fit_deviation <= tolerance and steps_consistent:
+        record = {
+            "step": "regularize_grid",
+            "max_deviation_um": fit_deviation,
+            "print_resolution_um": raw.x_resolution,
+            "spacing_um": float(fitted[1] - fitted[0]),
+        }
+        scan = scan.with_data(fitted, scan.z, record)
+        # an explicit spacing asked for (e.g. to share another scan's grid)
+        return _resampled(scan, opts, 0.0) if explicit else scan
+    if opts.nonuniform == "refuse":
+        raise _nonuniform_error(scan, raw.x_resolution, deviation)
+    return _resampled(scan, opts, float(deviation[int(np.argmax(deviation))]))
+
+
+def _zero_origin(scan: _Scan, opts: Preprocessing) -> _Scan:
+    """Step 7: shift ``x`` to start at 0 on request."""
+    if not (opts.zero_origin and scan.x.size):
+        return scan
+    record = {"step": "zero_origin", "shift_um": float(-scan.x[0])}
+    return scan.with_data(scan.x - scan.x[0], scan.z, record)
+
+
+def _remove_form(scan: _Scan, opts: Preprocessing) -> _Scan:
+    """Step 8: subtract the least-squares mean, tilt or polynomial of ``opts.detrend``."""
+    degree = detrend_degree(opts.detrend)
+    if degree is None or scan.x.size <= degree:
+        return scan
+    form, coefficients = _fit_form(scan.x, scan.z, degree)
+    return scan.with_data(scan.x, scan.z - form, _detrend_record(degree, coefficients, form))
 
 
 def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile:
@@ -498,221 +755,34 @@ def to_profile(raw: RawProfile, options: Preprocessing | None = None) -> Profile
     k·r or (k+1)·r (k = ⌊s/r⌋) and a missing sample a step near 2s, so every step must be k·r
     or (k+1)·r and 2s/r ≥ k + 2 (else a double step could pass for a single one: with
     s < 1.5 r the grid is refused as too coarsely printed to tell).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from splinecontact.preprocess import Preprocessing, RawProfile, to_profile
+    >>> raw = RawProfile(np.array([0.0, 0.2, 0.1, 0.3, 0.4]), np.array([0.0, 0.2, 0.1, 0.0, -0.1]))
+    >>> to_profile(raw)
+    Traceback (most recent call last):
+    ...
+    splinecontact.errors.GridOrderError: the scan: x steps back at index 2: ...
+    >>> profile = to_profile(raw, Preprocessing(order="sort"))
+    >>> profile.x
+    array([0. , 0.1, 0.2, 0.3, 0.4])
+    >>> [step["step"] for step in profile.metadata["preprocessing"]]
+    ['sort']
     """
-    if options is not None and not isinstance(options, Preprocessing):
-        raise PreprocessingOptionError(
-            f"preprocessing={str(options)[:60]!r} is not a Preprocessing(...) policy"
-        )
-    if not isinstance(raw, RawProfile):
-        raise ProfileError(f"to_profile needs a RawProfile, got {type(raw).__name__}")
-    opts = options if options is not None else Preprocessing()
-    source = _source(raw)
-    earlier = raw.metadata.get("preprocessing", [])
-    if not isinstance(earlier, list) or not all(
-        isinstance(step, Mapping) and isinstance(step.get("step"), str) for step in earlier
-    ):
-        raise ProfileError(
-            f"{source}: metadata['preprocessing'] is {str(earlier)[:60]!r}, not a list of step "
-            "records; the stored metadata is damaged"
-        )
-    x, z = raw.x.copy(), raw.z.copy()
-    rows = None if raw.rows is None else raw.rows.copy()
-    steps: list[dict[str, Any]] = []
-
-    # 1. undefined points
-    undefined = ~np.isfinite(x) | ~np.isfinite(z)
-    if undefined.any():
-        bad = np.flatnonzero(undefined)
-        if opts.undefined == "refuse":
-            flagged = raw.metadata.get("n_flagged_invalid", 0)
-            why = f" ({flagged} flagged invalid by the instrument)" if flagged else ""
-            raise UndefinedPointsError(
-                f"{source}: {bad.size} undefined point(s) of {x.size}{why}: "
-                f"{_where(bad, rows, x)}; fill them with undefined='interpolate' "
-                "(CLI: --undefined interpolate) or crop them away"
-            )
-        no_position = ~np.isfinite(x)
-        if no_position.any():
-            keep = ~no_position
-            steps.append({"step": "drop_undefined_positions", "n_dropped": int(no_position.sum())})
-            x, z = x[keep], z[keep]
-            rows = None if rows is None else rows[keep]
-            if x.size < MIN_POINTS:
-                raise UndefinedPointsError(
-                    f"{source}: only {x.size} of {no_position.size} point(s) have a defined "
-                    f"position; a profile needs at least {MIN_POINTS} — check the x column"
-                )
-
-    # 2. crop
-    if opts.crop is not None:
-        lo, hi = opts.crop
-        keep = (x >= lo) & (x <= hi)
-        if keep.sum() < MIN_POINTS:
-            span = f"x spans {np.min(x):.9g}…{np.max(x):.9g} µm" if x.size else "no points"
-            raise CropError(
-                f"{source}: crop=({lo:g}, {hi:g}) µm keeps {int(keep.sum())} point(s) of {x.size} "
-                f"({span}); choose a range inside the scan with at least {MIN_POINTS} points"
-            )
-        steps.append(
-            {"step": "crop", "x_min_um": lo, "x_max_um": hi, "n_removed": int((~keep).sum())}
-        )
-        x, z = x[keep], z[keep]
-        rows = None if rows is None else rows[keep]
-
-    # 3. order
-    back = np.flatnonzero(np.diff(x) < 0) + 1
-    if back.size:
-        if opts.order == "refuse":
-            i = int(back[0])
-            line = f" (line {int(rows[i])})" if rows is not None else ""
-            raise GridOrderError(
-                f"{source}: x steps back at index {i}{line}: x[{i - 1}]={x[i - 1]:.9g} µm, "
-                f"x[{i}]={x[i]:.9g} µm ({back.size} step(s) back in total); sort the points "
-                "with order='sort' (CLI: --order sort) or crop to the ordered part (--crop)"
-            )
-        perm = np.argsort(x, kind="stable")
-        x, z = x[perm], z[perm]
-        rows = None if rows is None else rows[perm]
-        steps.append({"step": "sort", "n_steps_back": int(back.size)})
-
-    # 4. duplicates
-    dup = np.flatnonzero(np.diff(x) == 0) + 1
-    if dup.size:
-        if opts.duplicates == "refuse":
-            i = int(dup[0])
-            line = f" (lines {int(rows[i - 1])} and {int(rows[i])})" if rows is not None else ""
-            raise DuplicatePositionError(
-                f"{source}: x repeats at index {i}{line}: x[{i - 1}] = x[{i}] = {x[i]:.9g} µm "
-                f"({dup.size} repeated position(s) in total); average the heights of repeated "
-                "positions with duplicates='average' (CLI: --duplicates average) or crop them away"
-            )
-        unique_x, inverse = np.unique(x, return_inverse=True)
-        defined = np.isfinite(z)
-        sums = np.bincount(inverse, weights=np.where(defined, z, 0.0), minlength=unique_x.size)
-        counts = np.bincount(inverse, weights=defined.astype(float), minlength=unique_x.size)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            z = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
-        first = np.unique(inverse, return_index=True)[1]
-        rows = None if rows is None else rows[first]
-        steps.append({"step": "average_duplicates", "n_merged": int(x.size - unique_x.size)})
-        x = unique_x
-
-    # 5. fill undefined heights
-    missing = ~np.isfinite(z)
-    if missing.any():
-        defined = np.flatnonzero(~missing)
-        if defined.size < MIN_POINTS:
-            raise UndefinedPointsError(
-                f"{source}: only {defined.size} defined point(s) remain; nothing to interpolate"
-            )
-        i_first, i_last = int(defined[0]), int(defined[-1])
-        n_trimmed = i_first + (x.size - 1 - i_last)
-        x, z = x[i_first : i_last + 1], z[i_first : i_last + 1]
-        rows = None if rows is None else rows[i_first : i_last + 1]
-        missing = ~np.isfinite(z)
-        n_filled = int(missing.sum())
-        if n_filled:
-            z[missing] = np.interp(x[missing], x[~missing], z[~missing])
-        steps.append(
-            {
-                "step": "interpolate_undefined",
-                "method": "linear",
-                "n_filled": n_filled,
-                "n_trimmed_at_ends": int(n_trimmed),
-            }
-        )
-
-    # 6. the grid
-    if x.size >= 2:
-        with np.errstate(over="ignore"):
-            mean_step = float((x[-1] - x[0]) / (x.size - 1))
-        if not (np.isfinite(mean_step) and mean_step >= np.finfo(np.float64).tiny):
-            raise GridNotUniformError(
-                f"{source}: the grid step {mean_step!r} µm is beyond the range floating point "
-                f"resolves (x spans {float(x[0]):.3g}…{float(x[-1]):.3g} µm); check the file's "
-                "units and increments"
-            )
-    if x.size >= 2 and not _is_uniform(x):
-        grid = _uniform_grid(float(x[0]), float(x[-1]), x.size)
-        deviation = np.abs(x - grid)
-        worst = int(np.argmax(deviation))
-        fitted = _least_squares_grid(x)
-        fit_deviation = float(np.max(np.abs(x - fitted)))
-        tolerance = raw.x_resolution * (1 + 1e-9) + 4 * np.finfo(float).eps * np.max(np.abs(x))
-        diffs = np.diff(x)
-        median_step = float(np.median(diffs))
-        steps_consistent = _rounded_grid_steps(
-            diffs, float(fitted[1] - fitted[0]), raw.x_resolution
-        )
-        if raw.x_resolution > 0 and fit_deviation <= tolerance and steps_consistent:
-            steps.append(
-                {
-                    "step": "regularize_grid",
-                    "max_deviation_um": fit_deviation,
-                    "print_resolution_um": raw.x_resolution,
-                    "spacing_um": float(fitted[1] - fitted[0]),
-                }
-            )
-            x = fitted
-            if opts.resample_spacing is not None and opts.nonuniform == "resample":
-                # an explicit spacing asked for (e.g. to share another scan's grid)
-                x, z = _resample(x, z, opts.resample_spacing, 0.0, steps, opts.max_points)
-                rows = None
-        elif opts.nonuniform == "refuse":
-            steps_ = np.diff(x)
-            mean_step = (x[-1] - x[0]) / (x.size - 1)
-            k = int(np.argmax(np.abs(steps_ - mean_step)))
-            line = f" (lines {int(rows[k])}–{int(rows[k + 1])})" if rows is not None else ""
-            resolution = (
-                f", more than the printed resolution {raw.x_resolution:.3g} µm"
-                if raw.x_resolution > 0
-                else ""
-            )
-            gap = np.flatnonzero(np.abs(diffs - median_step) >= 0.5 * median_step)
-            q = mean_step / raw.x_resolution if raw.x_resolution > 0 else np.inf
-            if 2.0 * q < np.floor(q) + 2.0:
-                why = (
-                    f"; the positions are printed so coarsely ({raw.x_resolution:.3g} µm for a "
-                    f"step of {mean_step:.3g} µm) that a missing sample cannot be told from "
-                    "rounding (export more decimals)"
-                )
-            elif gap.size:
-                why = (
-                    f"; {gap.size} step(s) differ from the median step {median_step:.9g} µm by "
-                    f"half a step or more (first {gap[0]}→{gap[0] + 1}): a sample is missing "
-                    "or extra"
-                )
-            else:
-                why = ""
-            raise GridNotUniformError(
-                f"{source}: the grid is not uniform: step {k}→{k + 1}{line} is "
-                f"{steps_[k]:.9g} µm but the mean step is {mean_step:.9g} µm; point {worst} "
-                f"is {deviation[worst]:.3g} µm off the uniform grid{resolution}{why}; "
-                "resample with nonuniform='resample' (CLI: --nonuniform resample)"
-            )
-        else:
-            x, z = _resample(
-                x, z, opts.resample_spacing, float(deviation[worst]), steps, opts.max_points
-            )
-            rows = None
-    elif opts.resample_spacing is not None and opts.nonuniform == "resample" and x.size >= 2:
-        x, z = _resample(x, z, opts.resample_spacing, 0.0, steps, opts.max_points)
-
-    # 7. origin
-    if opts.zero_origin and x.size:
-        steps.append({"step": "zero_origin", "shift_um": float(-x[0])})
-        x = x - x[0]
-
-    # 8. form removal
-    degree = detrend_degree(opts.detrend)
-    if degree is not None and x.size > degree:
-        form, coefficients = _fit_form(x, z, degree)
-        z = z - form
-        steps.append(_detrend_record(degree, coefficients, form))
-
+    scan, opts = _start(raw, options)
+    scan = _undefined_points(scan, raw, opts)
+    scan = _crop(scan, opts)
+    scan = _order(scan, opts)
+    scan = _duplicates(scan, opts)
+    scan = _fill_undefined(scan)
+    scan = _grid(scan, raw, opts)
+    scan = _zero_origin(scan, opts)
+    scan = _remove_form(scan, opts)
     metadata = dict(raw.metadata)
-    metadata["preprocessing"] = [*list(metadata.get("preprocessing", [])), *steps]
-    return Profile(x, z, metadata=metadata)
+    metadata["preprocessing"] = [*list(metadata.get("preprocessing", [])), *scan.steps]
+    return Profile(scan.x, scan.z, metadata=metadata)
 
 
 def _detrend_record(

@@ -25,7 +25,18 @@ from .errors import (
     TooFewPointsError,
 )
 
-__all__ = ["LENGTH_LIMIT", "MIN_POINTS", "MIN_STEP", "UNIFORM_GRID_RTOL", "Profile"]
+__all__ = [
+    "LENGTH_LIMIT",
+    "MIN_POINTS",
+    "MIN_STEP",
+    "UNIFORM_GRID_RTOL",
+    "Profile",
+    "rms_slope",
+    "roughness_average",
+    "roughness_rms",
+    "slope_rms",
+    "surface_statistics",
+]
 
 #: Fewest points a profile may have (the spline of eqs. 2–3 needs a few interior knots).
 MIN_POINTS = 5
@@ -105,6 +116,14 @@ class Profile:
     Notes
     -----
     The arrays are copied and made read-only, so a profile never changes after construction.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from splinecontact import Profile
+    >>> profile = Profile(np.linspace(0.0, 1.0, 5), np.array([0.0, 1.0, 0.0, -1.0, 0.0]))
+    >>> profile.dx, profile.ra, round(profile.rq, 6)
+    (0.25, 0.4, 0.632456)
     """
 
     x: NDArray[np.float64]
@@ -207,17 +226,17 @@ class Profile:
     @property
     def ra(self) -> float:
         """Arithmetic mean roughness R_A = mean |z − mean(z)| [µm]."""
-        return float(np.mean(np.abs(self.z - self.z.mean())))
+        return roughness_average(self.z)
 
     @property
     def rq(self) -> float:
         """Root-mean-square roughness R_q [µm]."""
-        return float(np.sqrt(np.mean((self.z - self.z.mean()) ** 2)))
+        return roughness_rms(self.z)
 
     @property
     def rsq(self) -> float:
         """Root-mean-square slope R_Sq [1] from grid differences (paper eq. 15)."""
-        return float(np.sqrt(np.mean((np.diff(self.z) / self.dx) ** 2)))
+        return rms_slope(self.z, self.dx)
 
     @property
     def peak_to_valley(self) -> float:
@@ -230,3 +249,79 @@ class Profile:
             f"Profile(n_points={self.n_points}, dx={self.dx:.4g} µm, length={self.length:.4g} µm, "
             f"ra={self.ra:.4g} µm, source={source!r})"
         )
+
+
+# --- roughness parameters: the one place they are computed ------------------------------------
+
+
+def roughness_average(z: NDArray[np.float64]) -> float:
+    """Arithmetic mean roughness R_A = mean |z − mean(z)| [µm] of heights ``z`` [µm]."""
+    return float(np.mean(np.abs(z - z.mean())))
+
+
+def roughness_rms(z: NDArray[np.float64]) -> float:
+    """Root-mean-square roughness R_q = √mean (z − mean(z))² [µm] of heights ``z`` [µm]."""
+    return float(np.sqrt(np.mean((z - z.mean()) ** 2)))
+
+
+def rms_slope(z: NDArray[np.float64], dx: float) -> float:
+    """Root-mean-square slope R_Sq [1] of heights ``z`` [µm] on a grid of step ``dx`` [µm].
+
+    Grid differences, paper eq. 15: R_Sq = √(Σ_i ((z_i − z_{i−1})/dx)² / (n − 1)).
+    """
+    return float(np.sqrt(np.mean((np.diff(z) / dx) ** 2)))
+
+
+def slope_rms(slope: NDArray[np.float64]) -> float:
+    """Root-mean-square of given slopes [1] (e.g. a spline's f′ at the grid points)."""
+    return float(np.sqrt(np.mean(slope * slope)))
+
+
+def surface_statistics(
+    lower: Profile,
+    upper: Profile | None,
+    spline_slope_lower: NDArray[np.float64],
+    spline_slope_upper: NDArray[np.float64] | None,
+) -> dict[str, float]:
+    """The roughness scalars a simulation records (``SCALAR_VARIABLES`` of the results).
+
+    Parameters
+    ----------
+    lower : Profile
+        Lower body (heights [µm]).
+    upper : Profile or None
+        Upper body sharing the grid, or ``None`` for a rigid flat (its roughness is 0).
+    spline_slope_lower, spline_slope_upper : ndarray or None
+        Smoothing-spline slopes f′ [1] at the grid points (eqs. 2–3); ``None`` for a flat.
+
+    Returns
+    -------
+    dict
+        R_A, R_q [µm], peak-to-valley [µm] of the lower body, R_Sq [1] (eq. 15) of each body
+        and of the gap z^u + z^l (the gap's slope up to sign), and the same slopes from the
+        spline (``*_spline``).
+    """
+    rsq_lower = lower.rsq
+    if upper is None:
+        ra_u = rq_u = rsq_u = rsq_upper_spline = 0.0
+        rsq_gap = rsq_lower
+        rsq_gap_spline = slope_rms(spline_slope_lower)
+    else:
+        assert spline_slope_upper is not None
+        ra_u, rq_u, rsq_u = upper.ra, upper.rq, upper.rsq
+        rsq_gap = rms_slope(lower.z + upper.z, lower.dx)
+        rsq_upper_spline = slope_rms(spline_slope_upper)
+        rsq_gap_spline = slope_rms(spline_slope_lower + spline_slope_upper)
+    return {
+        "ra_lower": lower.ra,
+        "rq_lower": lower.rq,
+        "peak_to_valley_lower": lower.peak_to_valley,
+        "rsq_lower": rsq_lower,
+        "rsq_lower_spline": slope_rms(spline_slope_lower),
+        "ra_upper": ra_u,
+        "rq_upper": rq_u,
+        "rsq_upper": rsq_u,
+        "rsq_upper_spline": rsq_upper_spline,
+        "rsq_gap": rsq_gap,
+        "rsq_gap_spline": rsq_gap_spline,
+    }

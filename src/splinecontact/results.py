@@ -17,6 +17,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import schema
+from .errors import ResultSchemaError
+
 if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the package
     import xarray as xr
 
@@ -29,71 +32,21 @@ __all__ = [
     "SimulationResult",
 ]
 
+# The variable tables of :mod:`splinecontact.schema` in their ``name -> (units, long_name)`` form
+# (the registry is the definition; these are views kept for the modules that iterate over them).
+
 #: Per-step variables: name -> (units, description). Forces are per µm of out-of-plane thickness.
-STEP_VARIABLES: dict[str, tuple[str, str]] = {
-    "displacement": ("µm", "normal displacement δ_N of the upper body from first contact"),
-    "normal_force": ("mN/µm", "global normal force F_N on the upper body (eq. 14)"),
-    "tangential_force": ("mN/µm", "global tangential force F_T on the upper body (eq. 14)"),
-    "contact_area": ("µm", "contact area A_S = Σ √(δ_i R_eff,i) per unit thickness (eq. 10)"),
-    "n_contacts": ("1", "number of accepted contacts"),
-    "mean_separation": ("µm", "distance between the mean lines of the smoothed surfaces"),
-    "normal_force_normal_part": ("mN/µm", "part of F_N from the local normal forces F^n"),
-    "normal_force_tangential_part": ("mN/µm", "part of F_N from the local tangential forces F^t"),
-    "n_tilted_contacts": (
-        "1",
-        "accepted contacts whose repulsive direction points below horizontal (e_z < 0)",
-    ),
-    "n_candidates": ("1", "points whose gap has closed (detection, z^u ≤ z^l)"),
-}
+STEP_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("step")
 
 #: Per-step variables written when present in the curves: ``tangential_displacement`` (every
 #: ``simulate`` result) and the load-path variables of ``simulate(..., path=...)``.
-PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = {
-    "tangential_displacement": (
-        "µm",
-        "tangential displacement u_T of the upper body along +x (0 for a normal loading)",
-    ),
-    "n_slipping": ("1", "accepted contacts whose tangential force is capped at μ0|F^n| (slip)"),
-    "dissipated_work": (
-        "mN·µm/µm",
-        "frictional work dissipated since step 0, Σ slip × capped force (nJ per µm thickness)",
-    ),
-    "normal_force_target": (
-        "mN/µm",
-        "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
-    ),
-}
+PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("path_step")
 
 #: Per-simulation scalar variables: name -> (units, description).
-SCALAR_VARIABLES: dict[str, tuple[str, str]] = {
-    "final_displacement": ("µm", "displacement at the last step"),
-    "ra_lower": ("µm", "R_A of the lower profile heights"),
-    "ra_upper": ("µm", "R_A of the upper profile heights (0 for a rigid flat)"),
-    "rq_lower": ("µm", "R_q of the lower profile heights"),
-    "rq_upper": ("µm", "R_q of the upper profile heights"),
-    "peak_to_valley_lower": ("µm", "peak-to-valley height of the lower profile"),
-    "rsq_lower": ("1", "rms slope of the lower heights, grid differences (eq. 15)"),
-    "rsq_upper": ("1", "rms slope of the upper heights, grid differences (eq. 15)"),
-    "rsq_gap": ("1", "rms slope of the gap z^u − z^l, grid differences (eq. 15)"),
-    "rsq_lower_spline": ("1", "rms slope of the lower spline f′"),
-    "rsq_upper_spline": ("1", "rms slope of the upper spline f′"),
-    "rsq_gap_spline": ("1", "rms slope of the gap from the spline slopes"),
-}
+SCALAR_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("scalar")
 
 #: Variables of the accepted-contact records (dimension ``contact``).
-CONTACT_VARIABLES: dict[str, tuple[str, str]] = {
-    "contact_step": ("1", "step index at which the contact was recorded"),
-    "contact_point": ("1", "grid index i of the contact"),
-    "contact_x": ("µm", "x of the contact centre (eq. 9)"),
-    "contact_z": ("µm", "z of the contact centre (global frame at that step)"),
-    "contact_overlap": ("µm", "sphere overlap δ_i (eq. 10)"),
-    "contact_effective_radius": ("µm", "R_eff,i = 2/(κ^u + κ^l) (eq. 10)"),
-    "contact_normal_force": ("mN/µm", "|F^n_i| = (π/4) E* δ_i (eq. 10)"),
-    "contact_tangential_force": ("mN/µm", "F^t_i along the contact tangent t (eqs. 11–13)"),
-    "contact_normal_x": ("1", "x component of the repulsive direction e_i"),
-    "contact_normal_z": ("1", "z component of the repulsive direction e_i"),
-    "contact_slipping": ("1", "1 where the contact slips (|F^t| capped at μ0|F^n|), else 0"),
-}
+CONTACT_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("contact")
 
 
 @dataclass(frozen=True, eq=False)
@@ -151,15 +104,24 @@ def jsonable(value: Any) -> Any:
     return value
 
 
+_FLOAT = NDArray[np.float64]
+_COUNT = NDArray[np.int64]
+
+
 @dataclass(frozen=True, eq=False)
 class SimulationResult:
-    """Per-step output of one SAD simulation (see ``STEP_VARIABLES`` for units).
+    """Per-step output of one SAD simulation (units: :mod:`splinecontact.schema`).
+
+    Built from the two mappings ``curves`` and ``scalars``; every variable of the schema is
+    also a declared, typed attribute (``result.normal_force``, ``result.rsq_gap``), so a typo
+    is a type-checker error and ``dir(result)`` lists them.
 
     Attributes
     ----------
     curves : dict of str to ndarray
-        The per-step variables of ``STEP_VARIABLES``, each of length ``steps + 1`` (step 0 is
-        the configuration of first contact, zero minimum gap).
+        The per-step variables of ``STEP_VARIABLES`` (and those of ``PATH_STEP_VARIABLES`` the
+        run produced), each of length ``steps + 1`` (step 0 is the configuration of first
+        contact, zero minimum gap).
     scalars : dict of str to float
         The per-simulation variables of ``SCALAR_VARIABLES``.
     parameters : dict
@@ -169,6 +131,39 @@ class SimulationResult:
     lower_metadata, upper_metadata : dict
         Metadata of the two input profiles (``upper_metadata`` is ``{"source": "flat"}`` for a
         rigid flat).
+    displacement : ndarray
+        Normal displacement δ_N of the upper body from first contact [µm].
+    normal_force, tangential_force : ndarray
+        Global forces F_N, F_T on the upper body (eq. 14) [mN/µm].
+    contact_area : ndarray
+        A_S = Σ √(δ_i R_eff,i) per unit thickness (eq. 10) [µm].
+    n_contacts, n_tilted_contacts, n_candidates : ndarray of int
+        Accepted contacts, those whose repulsive direction points below horizontal, and the
+        points whose gap has closed [1].
+    mean_separation : ndarray
+        Distance between the mean lines of the smoothed surfaces [µm].
+    normal_force_normal_part, normal_force_tangential_part : ndarray
+        Parts of F_N from the local normal and tangential forces [mN/µm].
+    tangential_displacement : ndarray or None
+        u_T along +x [µm] (every ``simulate`` result of this version has it; ``None`` only for
+        a result built without it).
+    n_slipping : ndarray of int or None
+        Slipping contacts [1] (load paths only, else ``None``).
+    dissipated_work : ndarray or None
+        Frictional work since step 0 [mN·µm/µm] (load paths only, else ``None``).
+    normal_force_target : ndarray or None
+        F_N held by a force-controlled segment [mN/µm], NaN elsewhere (load paths only).
+    final_displacement : float
+        Displacement at the last step [µm].
+    ra_lower, ra_upper, rq_lower, rq_upper, peak_to_valley_lower : float
+        Height statistics of the profiles [µm].
+    rsq_lower, rsq_upper, rsq_gap, rsq_lower_spline, rsq_upper_spline, rsq_gap_spline : float
+        rms slopes (eq. 15) [1].
+
+    Raises
+    ------
+    ResultSchemaError
+        ``curves`` or ``scalars`` lacks a variable of ``STEP_VARIABLES``/``SCALAR_VARIABLES``.
     """
 
     curves: Mapping[str, NDArray[Any]]
@@ -178,15 +173,51 @@ class SimulationResult:
     lower_metadata: Mapping[str, Any] = field(default_factory=dict)
     upper_metadata: Mapping[str, Any] = field(default_factory=dict)
 
-    def __getattr__(self, name: str) -> Any:
-        # Convenience: result.normal_force etc. (only for the schema's names).
-        curves = object.__getattribute__(self, "curves")
-        if name in curves:
-            return curves[name]
-        scalars = object.__getattribute__(self, "scalars")
-        if name in scalars:
-            return scalars[name]
-        raise AttributeError(name)
+    # --- per-step curves (schema table "step"), set from ``curves`` -------------------------
+    displacement: _FLOAT = field(init=False)
+    normal_force: _FLOAT = field(init=False)
+    tangential_force: _FLOAT = field(init=False)
+    contact_area: _FLOAT = field(init=False)
+    n_contacts: _COUNT = field(init=False)
+    mean_separation: _FLOAT = field(init=False)
+    normal_force_normal_part: _FLOAT = field(init=False)
+    normal_force_tangential_part: _FLOAT = field(init=False)
+    n_tilted_contacts: _COUNT = field(init=False)
+    n_candidates: _COUNT = field(init=False)
+    # --- optional per-step curves (schema table "path_step") --------------------------------
+    tangential_displacement: _FLOAT | None = field(init=False, default=None)
+    n_slipping: _COUNT | None = field(init=False, default=None)
+    dissipated_work: _FLOAT | None = field(init=False, default=None)
+    normal_force_target: _FLOAT | None = field(init=False, default=None)
+    # --- per-simulation scalars (schema table "scalar"), set from ``scalars`` ---------------
+    final_displacement: float = field(init=False)
+    ra_lower: float = field(init=False)
+    ra_upper: float = field(init=False)
+    rq_lower: float = field(init=False)
+    rq_upper: float = field(init=False)
+    peak_to_valley_lower: float = field(init=False)
+    rsq_lower: float = field(init=False)
+    rsq_upper: float = field(init=False)
+    rsq_gap: float = field(init=False)
+    rsq_lower_spline: float = field(init=False)
+    rsq_upper_spline: float = field(init=False)
+    rsq_gap_spline: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        for source, names, required in (
+            (self.curves, STEP_VARIABLES, True),
+            (self.curves, PATH_STEP_VARIABLES, False),
+            (self.scalars, SCALAR_VARIABLES, True),
+        ):
+            for name in names:
+                if name in source:
+                    object.__setattr__(self, name, source[name])
+                elif required:
+                    raise ResultSchemaError(
+                        f"a SimulationResult needs the variable {name!r} (missing from "
+                        f"{'curves' if source is self.curves else 'scalars'}, which has "
+                        f"{sorted(source)}); build it with every variable of the schema"
+                    )
 
     @property
     def n_steps(self) -> int:
@@ -228,21 +259,11 @@ class SimulationResult:
 
         steps = np.arange(self.n_steps + 1)
         data_vars: dict[str, Any] = {}
-        for name, (units, description) in STEP_VARIABLES.items():
-            data_vars[name] = xr.Variable(
-                ("step",), np.asarray(self.curves[name]), {"units": units, "long_name": description}
-            )
-        for name, (units, description) in PATH_STEP_VARIABLES.items():
+        for name in (*STEP_VARIABLES, *PATH_STEP_VARIABLES):
             if name in self.curves:
-                data_vars[name] = xr.Variable(
-                    ("step",),
-                    np.asarray(self.curves[name]),
-                    {"units": units, "long_name": description},
-                )
-        for name, (units, description) in SCALAR_VARIABLES.items():
-            data_vars[name] = xr.Variable(
-                (), float(self.scalars[name]), {"units": units, "long_name": description}
-            )
+                data_vars[name] = schema.xr_variable(name, np.asarray(self.curves[name]))
+        for name in SCALAR_VARIABLES:
+            data_vars[name] = schema.xr_variable(name, float(self.scalars[name]))
         if self.contacts:
             columns = {
                 "contact_step": np.concatenate(
@@ -267,10 +288,7 @@ class SimulationResult:
                     [np.asarray(c.slipping, dtype=np.int8) for c in self.contacts]
                 )
             for name, values in columns.items():
-                units, description = CONTACT_VARIABLES[name]
-                data_vars[name] = xr.Variable(
-                    ("contact",), values, {"units": units, "long_name": description}
-                )
+                data_vars[name] = schema.xr_variable(name, values)
         attrs: dict[str, Any] = {}
         for key, value in self.parameters.items():
             attrs[key] = (
@@ -284,8 +302,7 @@ class SimulationResult:
         from ._version import __version__
 
         attrs["splinecontact_version"] = __version__
-        step_attrs = {"units": "1", "long_name": "loading step (0 = first contact)"}
-        coords = {"step": ("step", steps, step_attrs)}
+        coords = {"step": schema.coordinate("step", steps.size)}
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
     def to_netcdf(self, path: str | Path) -> Path:

@@ -116,6 +116,18 @@ def surface_spheres(fit: SplineFit, *, r_min: float | None = None) -> SurfaceSph
     Returns
     -------
     SurfaceSpheres
+
+    Examples
+    --------
+    On the top of a circle of radius 50 µm every sphere of eq. 6 is that circle:
+
+    >>> import numpy as np
+    >>> from splinecontact import Profile, fit_spline, surface_spheres
+    >>> x = np.linspace(-1.0, 1.0, 401)
+    >>> circle = Profile(x, np.sqrt(50.0**2 - x**2) - 50.0)
+    >>> spheres = surface_spheres(fit_spline(circle))
+    >>> round(float(spheres.radius[200]), 3), round(float(spheres.centre_z[200]), 3)
+    (50.0, -50.0)
     """
     if not isinstance(fit, SplineFit):
         raise ParameterError(

@@ -66,7 +66,8 @@ def plot(
         files = plot_result(store, out_dir, overwrite=overwrite)
         typer.echo(f"wrote {len(files)} figures to {out_dir}")
         return
-    from ..plotting import build_figures, write_figures
+    from ..plotting import write_figures
+    from ..reproduce.figures import draw_figures
     from ..study import open_study
 
     if rsq_method not in ("grid", "spline"):
@@ -74,7 +75,7 @@ def plot(
     if not 0.0 < fit_fraction <= 1.0:
         raise fail(f"--fit-fraction must lie in (0, 1], got {fit_fraction!r}")
     ds = open_study(store)
-    figures, _, notes = build_figures(
+    figures, _, notes = draw_figures(
         ds,
         illustrative=illustrative,
         kappa_options={"rsq_method": rsq_method, "fit_fraction": fit_fraction},

@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import difflib
 import functools
+import inspect
 import io
 import math
 import os
@@ -55,6 +56,7 @@ __all__ = [
     "parse_body_spec",
     "parse_generated_spec",
     "profile_reading",
+    "with_reading_options",
 ]
 
 #: The body-spec grammar, shown under the options of every command that takes a body.
@@ -319,6 +321,14 @@ MaxPointsOpt = Annotated[
         rich_help_panel=PANEL_READ,
     ),
 ]
+#: Model parameters that several commands take with the same name and help.
+EStarOpt = Annotated[float, typer.Option("--e-star", help="Effective modulus E* [GPa].")]
+GStarOpt = Annotated[
+    float | None,
+    typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
+]
+Mu0Opt = Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")]
+X0Opt = Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")]
 OverwriteOpt = Annotated[
     bool,
     typer.Option("--overwrite", help="Replace an existing output (never an input)."),
@@ -442,6 +452,72 @@ def profile_reading(
     return ProfileReading(
         read, upper_read, preprocessing, upper_preprocessing, upper_options, inherited, max_points
     )
+
+
+#: The option alias of each keyword of :func:`profile_reading` (its signature gives the order
+#: and the defaults of the options a command gets from :func:`with_reading_options`).
+_READING_OPTIONS: dict[str, Any] = {
+    "file_format": FormatOpt,
+    "unit": UnitOpt,
+    "height_unit": HeightUnitOpt,
+    "spacing": SpacingOpt,
+    "line": LineOpt,
+    "upper_line": UpperLineOpt,
+    "upper_unit": UpperUnitOpt,
+    "undefined": UndefinedOpt,
+    "order": OrderOpt,
+    "duplicates": DuplicatesOpt,
+    "nonuniform": NonuniformOpt,
+    "resample_spacing": ResampleSpacingOpt,
+    "crop": CropOpt,
+    "upper_crop": UpperCropOpt,
+    "zero_origin": ZeroOriginOpt,
+    "detrend": DetrendOpt,
+    "max_points": MaxPointsOpt,
+}
+
+
+def with_reading_options(*, upper: bool) -> Callable[[Callable[..., T]], Callable[..., T]]:
+    """Give a command the shared reading and preprocessing options, declared once.
+
+    The command declares a last parameter ``reading_options: Callable[[], ProfileReading]``.
+    In its place the options of :func:`profile_reading` (without the ``--upper-*`` ones unless
+    ``upper``) are appended to the command's signature, so ``--help`` lists them after the
+    command's own, in one order for every command. ``reading_options()`` calls
+    :func:`profile_reading` with their values: the command calls it where its own checks want
+    it, so errors keep their order.
+    """
+    defaults = inspect.signature(profile_reading).parameters
+    names = [name for name in defaults if upper or not name.startswith("upper_")]
+    added = [
+        inspect.Parameter(
+            name,
+            inspect.Parameter.POSITIONAL_OR_KEYWORD,
+            default=defaults[name].default,
+            annotation=_READING_OPTIONS[name],
+        )
+        for name in names
+    ]
+
+    def decorate(func: Callable[..., T]) -> Callable[..., T]:
+        signature = inspect.signature(func, eval_str=True)
+        own = [p for p in signature.parameters.values() if p.name != "reading_options"]
+        if len(own) == len(signature.parameters):
+            raise TypeError(f"{func.__name__} has no parameter reading_options")
+
+        @functools.wraps(func)
+        def wrapper(*args: Any, **kwargs: Any) -> T:
+            given = {name: kwargs.pop(name, defaults[name].default) for name in names}
+            reading = functools.partial(profile_reading, **given)
+            return func(*args, reading_options=reading, **kwargs)
+
+        parameters = [*own, *added]
+        wrapper.__signature__ = signature.replace(parameters=parameters)  # type: ignore[attr-defined]
+        wrapper.__annotations__ = {p.name: p.annotation for p in parameters}
+        wrapper.__annotations__["return"] = signature.return_annotation
+        return wrapper
+
+    return decorate
 
 
 # --- body specs -----------------------------------------------------------------------------
@@ -629,8 +705,8 @@ def read_body(
     With two files, the reader's option hints name the option that reaches the body at hand
     (``--upper-line``/``--upper-unit`` for the upper file).
     """
+    from ..errors import ReadOptionError
     from ..io import read_profile
-    from ..io._errors import ReadOptionError
 
     read = reading.upper_read if upper else reading.read
     preprocessing = reading.upper_preprocessing if upper else reading.preprocessing

@@ -8,6 +8,7 @@ Bodies are specs (FILE, ``flat``, ``generated:D=1.5,seed=3``) read with the shar
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
 
@@ -16,29 +17,14 @@ import typer
 from ..errors import ParameterError
 from ._common import (
     BODY_SPEC_HELP,
-    CropOpt,
-    DetrendOpt,
-    DuplicatesOpt,
-    FormatOpt,
-    HeightUnitOpt,
-    LineOpt,
-    MaxPointsOpt,
-    NonuniformOpt,
-    OrderOpt,
+    EStarOpt,
     OverwriteOpt,
+    ProfileReading,
     QuietOpt,
-    ResampleSpacingOpt,
-    SpacingOpt,
-    UndefinedOpt,
-    UnitOpt,
-    UpperCropOpt,
-    UpperLineOpt,
-    UpperUnitOpt,
-    ZeroOriginOpt,
     handle_errors,
     load_bodies,
     parse_body_spec,
-    profile_reading,
+    with_reading_options,
 )
 
 __all__ = ["register"]
@@ -75,6 +61,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command(epilog=BODY_SPEC_HELP)
     @handle_errors
+    @with_reading_options(upper=True)
     def compare(
         lower: Annotated[
             str,
@@ -97,7 +84,7 @@ def register(app: typer.Typer) -> None:
                 "-o", "--output", help="Folder to write compare.csv (units in header) and .png."
             ),
         ] = Path("compare"),
-        e_star: Annotated[float, typer.Option(help="Effective modulus E* [GPa].")] = 10.0,
+        e_star: EStarOpt = 10.0,
         steps: Annotated[int, typer.Option(help="SAD displacement steps.")] = 1000,
         final_displacement_factor: Annotated[
             float, typer.Option(help="SAD final displacement / peak-to-valley height.")
@@ -124,23 +111,8 @@ def register(app: typer.Typer) -> None:
         ] = 0.9,
         quiet: QuietOpt = False,
         overwrite: OverwriteOpt = False,
-        file_format: FormatOpt = None,
-        unit: UnitOpt = None,
-        height_unit: HeightUnitOpt = None,
-        spacing: SpacingOpt = None,
-        line: LineOpt = None,
-        upper_line: UpperLineOpt = None,
-        upper_unit: UpperUnitOpt = None,
-        undefined: UndefinedOpt = "refuse",
-        order: OrderOpt = "refuse",
-        duplicates: DuplicatesOpt = "refuse",
-        nonuniform: NonuniformOpt = "refuse",
-        resample_spacing: ResampleSpacingOpt = None,
-        crop: CropOpt = None,
-        upper_crop: UpperCropOpt = None,
-        zero_origin: ZeroOriginOpt = False,
-        detrend: DetrendOpt = "none",
-        max_points: MaxPointsOpt = None,
+        *,
+        reading_options: Callable[[], ProfileReading],
     ) -> None:
         """Compare SAD with the exact elastic solution (BEM) on the same smoothed profile.
 
@@ -161,13 +133,7 @@ def register(app: typer.Typer) -> None:
             raise ParameterError(
                 f"--max-contact-fraction {max_contact_fraction!r} must be in (0, 1]"
             )
-        reading = profile_reading(
-            file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
-            line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
-            order=order, duplicates=duplicates, nonuniform=nonuniform,
-            resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
-            zero_origin=zero_origin, detrend=detrend, max_points=max_points,
-        )  # fmt: skip
+        reading = reading_options()
         specs = [
             parse_body_spec(lower, option="--lower"),
             parse_body_spec(upper, option="--upper"),

@@ -2,34 +2,22 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ._common import (
-    CropOpt,
-    DetrendOpt,
-    DuplicatesOpt,
-    FormatOpt,
-    HeightUnitOpt,
-    LineOpt,
-    MaxPointsOpt,
-    NonuniformOpt,
-    OrderOpt,
+    EStarOpt,
+    GStarOpt,
+    Mu0Opt,
     OverwriteOpt,
-    ResampleSpacingOpt,
-    SpacingOpt,
-    UndefinedOpt,
-    UnitOpt,
-    UpperCropOpt,
-    UpperLineOpt,
-    UpperUnitOpt,
-    ZeroOriginOpt,
+    ProfileReading,
     handle_errors,
     load_bodies,
     parse_body_spec,
-    profile_reading,
+    with_reading_options,
 )
 
 __all__ = ["register"]
@@ -40,6 +28,7 @@ def register(app: typer.Typer) -> None:
 
     @app.command()
     @handle_errors
+    @with_reading_options(upper=True)
     def friction(
         lower: Annotated[
             str, typer.Option("--lower", help="Lower body: FILE or generated:D=..,seed=..")
@@ -64,55 +53,28 @@ def register(app: typer.Typer) -> None:
         upper: Annotated[
             str, typer.Option("--upper", help="Upper body: FILE, flat or generated:D=..,seed=..")
         ] = "flat",
-        e_star: Annotated[
-            float, typer.Option("--e-star", help="Effective modulus E* [GPa].")
-        ] = 10.0,
-        g_star: Annotated[
-            float | None,
-            typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
-        ] = None,
-        mu0: Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")] = 0.3,
+        e_star: EStarOpt = 10.0,
+        g_star: GStarOpt = None,
+        mu0: Mu0Opt = 0.3,
         alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1].")] = 2.0,
         x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm].")] = 1.0,
         overwrite: OverwriteOpt = False,
-        file_format: FormatOpt = None,
-        unit: UnitOpt = None,
-        height_unit: HeightUnitOpt = None,
-        spacing: SpacingOpt = None,
-        line: LineOpt = None,
-        upper_line: UpperLineOpt = None,
-        upper_unit: UpperUnitOpt = None,
-        undefined: UndefinedOpt = "refuse",
-        order: OrderOpt = "refuse",
-        duplicates: DuplicatesOpt = "refuse",
-        nonuniform: NonuniformOpt = "refuse",
-        resample_spacing: ResampleSpacingOpt = None,
-        crop: CropOpt = None,
-        upper_crop: UpperCropOpt = None,
-        zero_origin: ZeroOriginOpt = False,
-        detrend: DetrendOpt = "none",
-        max_points: MaxPointsOpt = None,
+        *,
+        reading_options: Callable[[], ProfileReading],
     ) -> None:
         """Slide, press, unload or cycle the upper body along a load path (netCDF out).
 
         Prints μ_s, k_T and the dissipated work when the path moves the body tangentially.
         Nothing is written when anything fails.
         """
-        from ..contact import simulate
-        from ..friction import FrictionAnalysisError, static_friction, tangential_stiffness
-        from ..loadpath import parse_path
+        from ..analysis import FrictionAnalysisError, static_friction, tangential_stiffness
+        from ..contact import parse_path, simulate
         from ..outputs import check_output_file
         from ._measured import _check_result_suffix, write_result
 
         _check_result_suffix(output)
 
-        reading = profile_reading(
-            file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
-            line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
-            order=order, duplicates=duplicates, nonuniform=nonuniform,
-            resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
-            zero_origin=zero_origin, detrend=detrend, max_points=max_points,
-        )  # fmt: skip
+        reading = reading_options()
         specs = [
             parse_body_spec(lower, option="--lower"),
             parse_body_spec(upper, option="--upper"),

@@ -7,40 +7,29 @@ shared reading and preprocessing options: see :mod:`splinecontact.cli._common`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ..errors import OutputError, ParameterError, ProfileReadError
+from ..errors import OutputWriteError, ParameterError, ProfileReadError
 from ._common import (
     BODY_SPEC_HELP,
     BodySpec,
-    CropOpt,
-    DetrendOpt,
-    DuplicatesOpt,
-    FormatOpt,
-    HeightUnitOpt,
-    LineOpt,
-    MaxPointsOpt,
-    NonuniformOpt,
-    OrderOpt,
+    EStarOpt,
+    GStarOpt,
+    Mu0Opt,
     OverwriteOpt,
-    ResampleSpacingOpt,
-    SpacingOpt,
-    UndefinedOpt,
-    UnitOpt,
-    UpperCropOpt,
-    UpperLineOpt,
-    UpperUnitOpt,
-    ZeroOriginOpt,
+    ProfileReading,
+    X0Opt,
     handle_errors,
     load_bodies,
     parse_body_spec,
     parse_generated_spec,
-    profile_reading,
     read_body,
     warn,
+    with_reading_options,
 )
 
 if TYPE_CHECKING:
@@ -58,10 +47,6 @@ __all__ = [
 
 #: Result file formats of ``simulate -o``, by extension.
 RESULT_SUFFIXES = {".nc": "netCDF-4", ".csv": "CSV, units in the header"}
-
-
-class OutputWriteError(OutputError):
-    """The result file cannot be written (e.g. the netCDF-4 backend is missing)."""
 
 
 def _check_result_suffix(output: Path) -> None:
@@ -137,6 +122,7 @@ def write_result(
 
 
 @handle_errors
+@with_reading_options(upper=True)
 def simulate_command(
     lower: Annotated[
         str, typer.Option("--lower", help="Lower body: FILE or generated:D=..,seed=..")
@@ -167,32 +153,14 @@ def simulate_command(
             help="Final displacement [µm] (default: 0.2 × the lower peak-to-valley height).",
         ),
     ] = None,
-    e_star: Annotated[float, typer.Option("--e-star", help="Effective modulus E* [GPa].")] = 10.0,
-    g_star: Annotated[
-        float | None,
-        typer.Option("--g-star", help="Effective shear modulus G* [GPa] (default E*/2.6)."),
-    ] = None,
-    mu0: Annotated[float, typer.Option("--mu0", help="Friction coefficient μ0 [1].")] = 0.3,
+    e_star: EStarOpt = 10.0,
+    g_star: GStarOpt = None,
+    mu0: Mu0Opt = 0.3,
     alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1] (eq. 3).")] = 2.0,
-    x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")] = 1.0,
+    x0: X0Opt = 1.0,
     overwrite: OverwriteOpt = False,
-    file_format: FormatOpt = None,
-    unit: UnitOpt = None,
-    height_unit: HeightUnitOpt = None,
-    spacing: SpacingOpt = None,
-    line: LineOpt = None,
-    upper_line: UpperLineOpt = None,
-    upper_unit: UpperUnitOpt = None,
-    undefined: UndefinedOpt = "refuse",
-    order: OrderOpt = "refuse",
-    duplicates: DuplicatesOpt = "refuse",
-    nonuniform: NonuniformOpt = "refuse",
-    resample_spacing: ResampleSpacingOpt = None,
-    crop: CropOpt = None,
-    upper_crop: UpperCropOpt = None,
-    zero_origin: ZeroOriginOpt = False,
-    detrend: DetrendOpt = "none",
-    max_points: MaxPointsOpt = None,
+    *,
+    reading_options: Callable[[], ProfileReading],
 ) -> None:
     """Press two measured (or generated) profiles together, or one against a rigid flat.
 
@@ -212,13 +180,7 @@ def simulate_command(
         raise ParameterError(
             f"--final-displacement {final_displacement!r} must be a positive finite length in µm"
         )
-    reading = profile_reading(
-        file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
-        line=line, upper_line=upper_line, upper_unit=upper_unit, undefined=undefined,
-        order=order, duplicates=duplicates, nonuniform=nonuniform,
-        resample_spacing=resample_spacing, crop=crop, upper_crop=upper_crop,
-        zero_origin=zero_origin, detrend=detrend, max_points=max_points,
-    )  # fmt: skip
+    reading = reading_options()
     specs = [parse_body_spec(lower, option="--lower"), parse_body_spec(upper, option="--upper")]
     inputs = [s.path for s in specs if s.kind == "file"]
     check_output_file(output, overwrite=overwrite, inputs=inputs)
@@ -254,26 +216,15 @@ def _fmt(value: float, unit: str = "") -> str:
 
 
 @handle_errors
+@with_reading_options(upper=False)
 def inspect_command(
     file: Annotated[Path, typer.Argument(help="Measured profile file.")],
     alpha: Annotated[
         float, typer.Option("--alpha", help="Spline tightness α [1] (eq. 3), 0 < α < 3.")
     ] = 2.0,
-    x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm] (eq. 3).")] = 1.0,
-    file_format: FormatOpt = None,
-    unit: UnitOpt = None,
-    height_unit: HeightUnitOpt = None,
-    spacing: SpacingOpt = None,
-    line: LineOpt = None,
-    undefined: UndefinedOpt = "refuse",
-    order: OrderOpt = "refuse",
-    duplicates: DuplicatesOpt = "refuse",
-    nonuniform: NonuniformOpt = "refuse",
-    resample_spacing: ResampleSpacingOpt = None,
-    crop: CropOpt = None,
-    zero_origin: ZeroOriginOpt = False,
-    detrend: DetrendOpt = "none",
-    max_points: MaxPointsOpt = None,
+    x0: X0Opt = 1.0,
+    *,
+    reading_options: Callable[[], ProfileReading],
 ) -> None:
     """Print size, roughness and Hurst exponent of a profile; warn about form and coarse grids.
 
@@ -290,12 +241,7 @@ def inspect_command(
         )
     if not (math.isfinite(x0) and x0 > 0):
         raise ParameterError(f"--x0 {x0:g} must be a positive length in µm")
-    reading = profile_reading(
-        file_format=file_format, unit=unit, height_unit=height_unit, spacing=spacing,
-        line=line, undefined=undefined, order=order, duplicates=duplicates,
-        nonuniform=nonuniform, resample_spacing=resample_spacing, crop=crop,
-        zero_origin=zero_origin, detrend=detrend, max_points=max_points,
-    )  # fmt: skip
+    reading = reading_options()
     if not file.is_file():
         what = (
             "no such file"

@@ -101,8 +101,7 @@ def run(
     Exit status: 0 when every realization has run (failed realizations are results, listed
     in the summary and recorded in the store), 1 on an error, 130 when interrupted.
     """
-    from ..config import StudyLimits
-    from ..study import StudyExecutionError, StudyProgressBar, print_summary, run_study
+    from ..study import StudyExecutionError, StudyLimits, StudyProgressBar, print_summary, run_study
 
     if scheduler is not None and workers is not None:
         raise fail(

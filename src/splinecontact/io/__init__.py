@@ -49,11 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ProfileReadError
-from ..preprocess import Preprocessing, RawProfile, to_profile
-from ..profile import Profile
-from ..results import jsonable
-from ._errors import (
+from ..errors import (
     CorruptFileError,
     EmptyFileError,
     FileTooLargeError,
@@ -64,11 +60,15 @@ from ._errors import (
     MissingSpacingError,
     MissingUnitsError,
     NoDataError,
+    ProfileReadError,
     ReadOptionError,
     UnitError,
     UnknownFormatError,
     X3PError,
 )
+from ..preprocess import Preprocessing, RawProfile, to_profile
+from ..profile import Profile
+from ..results import jsonable
 from ._instruments import (
     AMBIGUOUS_EXTENSIONS,
     INSTRUMENT_EXTENSIONS,
@@ -399,6 +399,19 @@ def read_profile(
         :func:`splinecontact.preprocess.to_profile`).
     OSError
         The file cannot be opened.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from splinecontact import read_profile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = pathlib.Path(folder) / "scan.csv"
+    ...     _ = path.write_text("x [um],z [nm]\\n0,0\\n0.5,100\\n1.0,-100\\n1.5,50\\n2.0,0\\n")
+    ...     profile = read_profile(path)
+    >>> profile.n_points, profile.dx
+    (5, 0.5)
+    >>> profile.z  # heights converted from nm to µm
+    array([ 0.  ,  0.1 , -0.1 ,  0.05,  0.  ])
     """
     raw = read_raw(
         path,

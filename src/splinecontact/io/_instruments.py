@@ -29,16 +29,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SplineContactError
-from ..preprocess import RawProfile
-from ._errors import (
+from ..errors import (
     FileTooLargeError,
+    InstrumentFileError,
     LineSelectionError,
     MissingExtraError,
     MissingUnitsError,
-    ProfileReadError,
+    SplineContactError,
     UnitError,
 )
+from ..preprocess import RawProfile
 from ._limits import DEFAULT_MAX_POINTS, check_points, one_line
 from ._units import UNIT_FACTORS, normalize_unit
 
@@ -67,10 +67,6 @@ INSTRUMENT_EXTENSIONS = frozenset(
 AMBIGUOUS_EXTENSIONS = frozenset({".dat"})
 
 INSTALL_HINT = 'pip install "splinecontact[instruments]"'
-
-
-class InstrumentFileError(ProfileReadError):
-    """SurfaceTopography could not read an instrument file (damaged, or unsupported variant)."""
 
 
 def _import_surfacetopography() -> Any:

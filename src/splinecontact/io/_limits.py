@@ -8,11 +8,19 @@ line by line with a bound on the length of a line.
 
 from __future__ import annotations
 
+import math
 import numbers
+from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
-from ._errors import CorruptFileError, FileTooLargeError, ReadOptionError
+from ..errors import (
+    CorruptFileError,
+    FileTooLargeError,
+    MissingSpacingError,
+    ProfileReadError,
+    ReadOptionError,
+)
 
 __all__ = [
     "DEFAULT_MAX_POINTS",
@@ -21,7 +29,9 @@ __all__ = [
     "check_max_points",
     "check_points",
     "one_line",
+    "read_chunks",
     "read_exact",
+    "required_spacing",
 ]
 
 #: Points per file the readers accept by default (``max_points=`` raises it): 10⁸, far above
@@ -63,26 +73,57 @@ def check_points(path: Path, n_points: int, max_points: int, what: str) -> None:
         )
 
 
-def read_exact(path: Path, stream: IO[bytes], size: int, what: str) -> bytes:
-    """Read exactly ``size`` bytes from a stream that must end there; refuse anything else.
+def required_spacing(path: Path, spacing: float | None, missing: str) -> float:
+    """The grid spacing [µm] that heights without positions need, checked.
 
-    The stream is read in chunks, so a member whose declared size lies (a zip bomb) is refused
-    after at most ``size`` + 1 bytes. Reading the end of a zip member also checks its CRC.
+    Raises
+    ------
+    MissingSpacingError
+        ``spacing`` is None; the message is ``missing`` (what the file lacks) and the option.
+    ReadOptionError
+        ``spacing`` is not a positive finite length.
     """
-    parts: list[bytes] = []
+    if spacing is None:
+        raise MissingSpacingError(
+            f"{path}: {missing}; pass the grid spacing spacing= [µm] (CLI --spacing)"
+        )
+    if not (math.isfinite(spacing) and spacing > 0):
+        raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+    return spacing
+
+
+def read_chunks(
+    path: Path,
+    stream: IO[bytes],
+    size: int,
+    what: str,
+    *,
+    error: type[ProfileReadError] = CorruptFileError,
+    declared: str = "declared",
+) -> Iterator[bytes]:
+    """Yield exactly ``size`` bytes of a stream that must end there, in chunks; refuse anything
+    else with ``error`` (the excess message says the size was ``declared``).
+
+    A member whose declared size lies (a zip bomb) is refused after at most ``size`` + 1 bytes.
+    Reading the end of a zip member also checks its CRC.
+    """
     got = 0
     while got < size:
         chunk = stream.read(min(_CHUNK, size - got))
         if not chunk:
-            raise CorruptFileError(
+            raise error(
                 f"{path}: {what} ends after {got:,} bytes but {size:,} were declared; the file "
                 "is truncated or damaged"
             )
-        parts.append(chunk)
+        yield chunk
         got += len(chunk)
     if stream.read(1):
-        raise CorruptFileError(
-            f"{path}: {what} holds more than the {size:,} bytes declared; the file is damaged "
+        raise error(
+            f"{path}: {what} holds more than the {size:,} bytes {declared}; the file is damaged "
             "or forged"
         )
-    return b"".join(parts)
+
+
+def read_exact(path: Path, stream: IO[bytes], size: int, what: str) -> bytes:
+    """Read exactly ``size`` bytes from a stream that must end there (:func:`read_chunks`)."""
+    return b"".join(read_chunks(path, stream, size, what))

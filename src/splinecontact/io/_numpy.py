@@ -24,20 +24,19 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..preprocess import RawProfile
-from ._errors import (
+from ..errors import (
     CorruptFileError,
     LineSelectionError,
-    MissingSpacingError,
     MissingUnitsError,
-    ProfileReadError,
+    NumpyFileError,
     ReadOptionError,
     UnitError,
 )
-from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact
+from ..preprocess import RawProfile
+from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact, required_spacing
 from ._stored import MAX_STORED_CHARS, parse_stored_metadata
 from ._units import UNIT_FACTORS, normalize_unit
-from ._x3p import ZIP_ERRORS
+from ._x3p import ZIP_ERRORS, open_zip
 
 __all__ = ["NumpyFileError", "read_npy", "read_npz"]
 
@@ -52,10 +51,6 @@ _HEADER_ERRORS = (
     tokenize.TokenError,
     *ZIP_ERRORS,
 )
-
-
-class NumpyFileError(ProfileReadError):
-    """A NumPy file does not hold a profile in a form splinecontact understands."""
 
 
 class _Counting:
@@ -185,13 +180,7 @@ def _heights(
         raise NumpyFileError(f"{path}: heights of shape {z.shape}; expected (N,) or (ny, nx)")
     elif line is not None:
         raise LineSelectionError(f"{path}: line= is only for areal data; this file is a profile")
-    if spacing is None:
-        raise MissingSpacingError(
-            f"{path}: heights without positions; pass the grid spacing spacing= [µm] "
-            "(CLI --spacing)"
-        )
-    if not (np.isfinite(spacing) and spacing > 0):
-        raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+    required_spacing(path, spacing, "heights without positions")
     return np.asarray(z, dtype=np.float64), line
 
 
@@ -322,16 +311,14 @@ def read_npz(
 ) -> RawProfile:
     """Read an ``.npz`` archive with arrays ``x`` and ``z`` (or ``z`` alone)."""
     with open(path, "rb") as handle:
-        try:
-            archive = zipfile.ZipFile(handle)
-        except zipfile.BadZipFile as exc:
-            raise NumpyFileError(
-                f"{path}: not a readable .npz archive (not a zip of .npy arrays: {one_line(exc)})"
-            ) from None
-        except ZIP_ERRORS as exc:
-            raise CorruptFileError(
-                f"{path}: the zip archive is damaged ({one_line(exc)})"
-            ) from None
+        archive = open_zip(
+            path,
+            handle,
+            lambda why: NumpyFileError(
+                f"{path}: not a readable .npz archive (not a zip of .npy arrays: {why})"
+            ),
+            CorruptFileError,
+        )
         with archive:
             names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
             if "z" not in names:

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from ._errors import CorruptFileError
+from ..errors import CorruptFileError
 
 __all__ = ["MAX_STORED_CHARS", "check_stored_metadata", "parse_stored_metadata"]
 

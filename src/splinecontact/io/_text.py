@@ -26,19 +26,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..preprocess import RawProfile
-from ._errors import (
+from ..errors import (
     EmptyFileError,
     FileTooLargeError,
     LineSelectionError,
     MalformedRowError,
-    MissingSpacingError,
     MissingUnitsError,
     NoDataError,
     ReadOptionError,
     UnitError,
 )
-from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_points
+from ..preprocess import RawProfile
+from ._limits import DEFAULT_MAX_POINTS, MAX_LINE_CHARS, check_points, required_spacing
 from ._units import UNIT_FACTORS, is_unit_word, normalize_unit, strip_bracketed, unit_in_text
 
 __all__ = [
@@ -569,6 +568,7 @@ def _stored_metadata(path: Path, text: str | None) -> Mapping[str, Any] | None:
     return parse_stored_metadata(path, text, where=f"the {METADATA_COMMENT!r} comment")
 
 
+@np.errstate(over="ignore", invalid="ignore")
 def _table_to_raw(
     path: Path,
     table: _Table,
@@ -582,30 +582,6 @@ def _table_to_raw(
 ) -> RawProfile:
     """The raw profile of a parsed table (a value overflowing on unit conversion becomes inf,
     an undefined point, without a RuntimeWarning)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        return _table_columns_to_raw(
-            path,
-            table,
-            fmt=fmt,
-            unit=unit,
-            height_unit=height_unit,
-            spacing=spacing,
-            line=line,
-            extra=extra,
-        )
-
-
-def _table_columns_to_raw(
-    path: Path,
-    table: _Table,
-    *,
-    fmt: str,
-    unit: str | None,
-    height_unit: str | None,
-    spacing: float | None,
-    line: int | None,
-    extra: dict[str, Any] | None,
-) -> RawProfile:
     columns = table.columns
     n_columns = len(columns)
     n_rows = table.values.shape[0]
@@ -642,13 +618,7 @@ def _table_columns_to_raw(
             raise LineSelectionError(
                 f"{path}: line={line} does not exist; the matrix has rows 0 … {n_rows - 1}"
             )
-        if spacing is None:
-            raise MissingSpacingError(
-                f"{path}: a row of a height matrix has no positions; pass the grid spacing "
-                "spacing= [µm] (CLI --spacing)"
-            )
-        if not (math.isfinite(spacing) and spacing > 0):
-            raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+        spacing = required_spacing(path, spacing, "a row of a height matrix has no positions")
         z_unit, z_from = _resolve_unit(
             path, None, height_unit or unit, "heights", "height_unit" if height_unit else "unit"
         )
@@ -661,13 +631,7 @@ def _table_columns_to_raw(
         flag_col = None
     elif len(data_columns) == 1:  # heights only
         z_col = data_columns[0]
-        if spacing is None:
-            raise MissingSpacingError(
-                f"{path}: one column of heights and no positions; pass the grid spacing "
-                "spacing= [µm] (CLI --spacing)"
-            )
-        if not (math.isfinite(spacing) and spacing > 0):
-            raise ReadOptionError(f"{path}: spacing={spacing!r} µm must be positive")
+        spacing = required_spacing(path, spacing, "one column of heights and no positions")
         z_unit, z_from = _resolve_unit(
             path,
             columns[z_col],

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from ._errors import UnitError
+from ..errors import UnitError
 
 __all__ = [
     "UNIT_FACTORS",

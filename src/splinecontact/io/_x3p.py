@@ -20,22 +20,37 @@ import hashlib
 import math
 import zipfile
 import zlib
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 from xml.etree import ElementTree
 from xml.parsers import expat
 
 import numpy as np
+from numpy.typing import NDArray
 
+from ..errors import (
+    DamagedX3PError,
+    FileTooLargeError,
+    LineSelectionError,
+    ProfileReadError,
+    X3PError,
+)
 from ..preprocess import RawProfile
-from ._errors import CorruptFileError, FileTooLargeError, LineSelectionError, X3PError
-from ._limits import DEFAULT_MAX_POINTS, MAX_XML_BYTES, check_points, one_line, read_exact
+from ._limits import (
+    DEFAULT_MAX_POINTS,
+    MAX_XML_BYTES,
+    check_points,
+    one_line,
+    read_chunks,
+    read_exact,
+)
 
-__all__ = ["DamagedX3PError", "read_x3p"]
+__all__ = ["ZIP_ERRORS", "DamagedX3PError", "open_zip", "read_x3p"]
 
 _DTYPES = {"I": "<u2", "L": "<u4", "F": "<f4", "D": "<f8"}  # I, L unsigned (openGPS)
 _METRE_TO_UM = 1e6
-_CHUNK = 1 << 20
 #: Errors of the zip and zlib modules on damaged archives (wrapped in DamagedX3PError).
 ZIP_ERRORS = (
     zipfile.BadZipFile,
@@ -50,8 +65,20 @@ ZIP_ERRORS = (
 )
 
 
-class DamagedX3PError(X3PError, CorruptFileError):
-    """An X3P archive is damaged: bad zip structure, checksum, compressed stream or sizes."""
+def open_zip(
+    path: Path,
+    handle: IO[bytes],
+    not_zip: Callable[[str], ProfileReadError],
+    damaged: type[ProfileReadError],
+) -> zipfile.ZipFile:
+    """Open a zip archive; a file that is no zip raises ``not_zip(reason)``, a damaged one
+    ``damaged`` (both without the zip module's traceback)."""
+    try:
+        return zipfile.ZipFile(handle)
+    except zipfile.BadZipFile as exc:
+        raise not_zip(one_line(exc)) from None
+    except ZIP_ERRORS as exc:
+        raise damaged(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
 
 
 class _Forbidden(Exception):
@@ -177,24 +204,16 @@ def _stream_rows(
     """Read a member of ``size`` bytes in chunks, hash all of it, keep bytes ``keep[0]:keep[1]``."""
     kept = bytearray()
     pos = 0
-    while pos < size:
-        chunk = stream.read(min(_CHUNK, size - pos))
-        if not chunk:
-            raise DamagedX3PError(
-                f"{path}: {what} ends after {pos:,} bytes but {size:,} were declared; the file "
-                "is truncated or damaged"
-            )
+    chunks = read_chunks(
+        path, stream, size, what, error=DamagedX3PError, declared="its directory entry declares"
+    )
+    for chunk in chunks:
         if md5 is not None:
             md5.update(chunk)
         lo, hi = max(keep[0], pos), min(keep[1], pos + len(chunk))
         if lo < hi:
             kept += chunk[lo - pos : hi - pos]
         pos += len(chunk)
-    if stream.read(1):
-        raise DamagedX3PError(
-            f"{path}: {what} holds more than the {size:,} bytes its directory entry declares; "
-            "the file is damaged or forged"
-        )
     return bytes(kept)
 
 
@@ -221,21 +240,44 @@ def read_x3p(
         ``main.xml`` declares more than ``max_points`` points, or is itself too large.
     """
     with open(path, "rb") as handle:  # OSError (missing, unreadable) propagates as such
-        try:
-            archive = zipfile.ZipFile(handle)
-        except zipfile.BadZipFile as exc:
-            raise X3PError(
-                f"{path}: not a valid X3P file (not a zip archive: {one_line(exc)})"
-            ) from None
-        except ZIP_ERRORS as exc:
-            raise DamagedX3PError(f"{path}: the zip archive is damaged ({one_line(exc)})") from None
+        archive = open_zip(
+            path,
+            handle,
+            lambda why: X3PError(f"{path}: not a valid X3P file (not a zip archive: {why})"),
+            DamagedX3PError,
+        )
         with archive:
             return _read_archive(path, archive, line=line, max_points=max_points)
 
 
-def _read_archive(
-    path: Path, archive: zipfile.ZipFile, *, line: int | None, max_points: int
-) -> RawProfile:
+@dataclass(frozen=True)
+class _Layout:
+    """What ``main.xml`` declares about the point data (lengths in metres, as stored)."""
+
+    feature: str
+    dx: float
+    x_offset: float
+    z_type: str
+    z_increment: float
+    z_offset: float
+    size_x: int
+    size_y: int
+    size_z: int
+    link: str
+
+    @property
+    def n(self) -> int:
+        """Points in the matrix."""
+        return self.size_x * self.size_y * self.size_z
+
+    @property
+    def dtype(self) -> np.dtype[Any]:
+        """numpy dtype of one stored height."""
+        return np.dtype(_DTYPES[self.z_type])
+
+
+def _main_xml(path: Path, archive: zipfile.ZipFile) -> ElementTree.Element:
+    """``main.xml``, size-checked and parsed without entity expansion."""
     names = archive.namelist()
     if "main.xml" not in names:
         shown = ", ".join(repr(n[:60]) for n in names[:5])
@@ -246,7 +288,11 @@ def _read_archive(
             f"{path}: main.xml declares {info.file_size:,} bytes uncompressed, more than the "
             f"{MAX_XML_BYTES:,} bytes an X3P description can need; the file is damaged or forged"
         )
-    root = _parse_xml(path, _read_member(path, archive, info, info.file_size))
+    return _parse_xml(path, _read_member(path, archive, info, info.file_size))
+
+
+def _feature(path: Path, root: ElementTree.Element) -> str:
+    """The feature type, PRF or SUR."""
     feature = _text(root, "Record1", "FeatureType")
     if feature not in ("PRF", "SUR"):
         feature_shown = feature if feature is None else feature[:40]
@@ -254,16 +300,17 @@ def _read_archive(
             f"{path}: feature type {feature_shown!r} is not supported; only PRF (profile) and "
             "SUR (areal surface) can be read"
         )
-    axes = {}
-    for axis in ("CX", "CY", "CZ"):
-        axes[axis] = {
-            "type": _text(root, "Record1", "Axes", axis, "AxisType"),
-            "data_type": _text(root, "Record1", "Axes", axis, "DataType"),
-        }
+    return feature
+
+
+def _layout(path: Path, root: ElementTree.Element, max_points: int) -> _Layout:
+    """Feature type, axes and matrix size of ``main.xml``, each checked."""
+    feature = _feature(path, root)
     for axis in ("CX", "CY"):
-        if axes[axis]["type"] not in (None, "I"):
+        axis_type = _text(root, "Record1", "Axes", axis, "AxisType")
+        if axis_type not in (None, "I"):
             raise X3PError(
-                f"{path}: axis {axis} has type {str(axes[axis]['type'])[:40]!r} (absolute "
+                f"{path}: axis {axis} has type {str(axis_type)[:40]!r} (absolute "
                 "coordinates); only incremental (I) lateral axes are supported"
             )
     dx = _float(path, root, "Record1", "Axes", "CX", "Increment")
@@ -273,7 +320,7 @@ def _read_archive(
             "can represent; the file is damaged"
         )
     x_offset = _float(path, root, "Record1", "Axes", "CX", "Offset", default=0.0)
-    z_type = axes["CZ"]["data_type"]
+    z_type = _text(root, "Record1", "Axes", "CZ", "DataType")
     if z_type not in _DTYPES:
         type_shown = z_type if z_type is None else z_type[:40]
         raise X3PError(f"{path}: z data type {type_shown!r} is not one of I, L, F, D")
@@ -290,12 +337,23 @@ def _read_archive(
             f"{path}: the point data are inline (DataList), which is not supported; export "
             "with binary point data (bindata/data.bin)"
         )
-    data_info = _member(path, archive, link)
-    dtype = np.dtype(_DTYPES[z_type])
-    if data_info.file_size != n * dtype.itemsize:
+    return _Layout(
+        feature, dx, x_offset, z_type, z_increment, z_offset, size_x, size_y, size_z, link
+    )
+
+
+def _members(
+    path: Path, archive: zipfile.ZipFile, root: ElementTree.Element, layout: _Layout
+) -> tuple[zipfile.ZipInfo, zipfile.ZipInfo | None]:
+    """The point-data member and the optional validity member, their sizes checked."""
+    n = layout.n
+    data_info = _member(path, archive, layout.link)
+    itemsize = layout.dtype.itemsize
+    if data_info.file_size != n * itemsize:
         raise DamagedX3PError(
-            f"{path}: {link} has {data_info.file_size:,} bytes but {size_x}×{size_y}×{size_z} "
-            f"points of type {z_type} need {n * dtype.itemsize:,}; the file is damaged"
+            f"{path}: {layout.link} has {data_info.file_size:,} bytes but "
+            f"{layout.size_x}×{layout.size_y}×{layout.size_z} points of type {layout.z_type} "
+            f"need {n * itemsize:,}; the file is damaged"
         )
     valid_link = _text(root, "Record3", "ValidPntsLink")
     valid_info = _member(path, archive, valid_link) if valid_link else None
@@ -305,38 +363,53 @@ def _read_archive(
             f"{path}: {valid_link} has {valid_info.file_size:,} bytes but {n:,} points need "
             f"{n_valid_bytes:,} bytes of validity bits; the file is damaged"
         )
+    return data_info, valid_info
 
-    n_lines = size_y * size_z
-    if feature == "PRF" or n_lines == 1:
+
+def _row(path: Path, layout: _Layout, line: int | None) -> int:
+    """The row to read: 0 for a profile, ``line`` (checked) for areal data."""
+    n_lines = layout.size_y * layout.size_z
+    if layout.feature == "PRF" or n_lines == 1:
         if line not in (None, 0):
             raise LineSelectionError(
                 f"{path}: the file holds a single profile; line={line} does not exist (omit it)"
             )
-        row = 0
-    else:
-        if line is None:
-            raise LineSelectionError(
-                f"{path}: areal data of {size_x} × {n_lines} points; choose the row to read "
-                f"with line= (0 … {n_lines - 1}; CLI --line)"
-            )
-        if not 0 <= line < n_lines:
-            raise LineSelectionError(
-                f"{path}: line={line} does not exist; the areal data have rows 0 … {n_lines - 1}"
-            )
-        row = line
+        return 0
+    if line is None:
+        raise LineSelectionError(
+            f"{path}: areal data of {layout.size_x} × {n_lines} points; choose the row to read "
+            f"with line= (0 … {n_lines - 1}; CLI --line)"
+        )
+    if not 0 <= line < n_lines:
+        raise LineSelectionError(
+            f"{path}: line={line} does not exist; the areal data have rows 0 … {n_lines - 1}"
+        )
+    return line
 
+
+def _read_row(
+    path: Path,
+    archive: zipfile.ZipFile,
+    root: ElementTree.Element,
+    layout: _Layout,
+    members: tuple[zipfile.ZipInfo, zipfile.ZipInfo | None],
+    row: int,
+) -> tuple[bytes, bytes | None]:
+    """The stored bytes of one row and the validity bits, the MD5 checksum verified."""
+    data_info, valid_info = members
     checksum = _text(root, "Record3", "DataLink", "MD5ChecksumPointData")
     md5 = hashlib.md5(usedforsecurity=False) if checksum else None
-    row_bytes = size_x * dtype.itemsize
+    itemsize = layout.dtype.itemsize
+    row_bytes = layout.size_x * itemsize
     try:
         with archive.open(data_info) as stream:
             data = _stream_rows(
                 path,
                 stream,
-                n * dtype.itemsize,
+                layout.n * itemsize,
                 (row * row_bytes, (row + 1) * row_bytes),
                 md5,
-                link,
+                layout.link,
             )
         valid_bytes = (
             _read_member(path, archive, valid_info, valid_info.file_size)
@@ -344,31 +417,49 @@ def _read_archive(
             else None
         )
     except ZIP_ERRORS as exc:
-        raise DamagedX3PError(f"{path}: {link} cannot be read ({one_line(exc)})") from None
+        raise DamagedX3PError(f"{path}: {layout.link} cannot be read ({one_line(exc)})") from None
     if md5 is not None and md5.hexdigest().lower() != str(checksum).lower():
         raise DamagedX3PError(
-            f"{path}: the MD5 checksum of {link} does not match main.xml; the file is damaged"
+            f"{path}: the MD5 checksum of {layout.link} does not match main.xml; the file is "
+            "damaged"
         )
+    return data, valid_bytes
+
+
+def _heights(
+    layout: _Layout, data: bytes, valid_bytes: bytes | None, row: int
+) -> tuple[NDArray[np.float64], NDArray[np.bool_] | None]:
+    """Heights [µm] of the row (NaN where the validity bits say invalid) and the bits."""
     with np.errstate(over="ignore", invalid="ignore"):
-        z = (np.frombuffer(data, dtype=dtype).astype(np.float64) * z_increment + z_offset) * (
-            _METRE_TO_UM
-        )
-    valid = None
-    if valid_bytes is not None:
-        first = row * size_x
-        chunk = np.frombuffer(valid_bytes[first // 8 : (first + size_x + 7) // 8 + 1], np.uint8)
-        bits = np.unpackbits(chunk, bitorder="little")
-        valid = bits[first % 8 : first % 8 + size_x].astype(bool)
-        z = np.where(valid, z, np.nan)
-    x = (x_offset + dx * np.arange(size_x)) * _METRE_TO_UM
+        z = (
+            np.frombuffer(data, dtype=layout.dtype).astype(np.float64) * layout.z_increment
+            + layout.z_offset
+        ) * (_METRE_TO_UM)
+    if valid_bytes is None:
+        return z, None
+    size_x = layout.size_x
+    first = row * size_x
+    chunk = np.frombuffer(valid_bytes[first // 8 : (first + size_x + 7) // 8 + 1], np.uint8)
+    bits = np.unpackbits(chunk, bitorder="little")
+    valid = bits[first % 8 : first % 8 + size_x].astype(bool)
+    return np.where(valid, z, np.nan), valid
+
+
+def _metadata(
+    path: Path,
+    root: ElementTree.Element,
+    layout: _Layout,
+    row: int,
+    valid: NDArray[np.bool_] | None,
+) -> dict[str, Any]:
+    """Source, format, matrix, units, flagged points, the row's y and the instrument."""
     dy = _float(path, root, "Record1", "Axes", "CY", "Increment", default=0.0)
     y_offset = _float(path, root, "Record1", "Axes", "CY", "Offset", default=0.0)
-
     metadata: dict[str, Any] = {
         "source": str(path),
         "format": "x3p",
-        "feature_type": feature,
-        "matrix": [size_x, size_y, size_z],
+        "feature_type": layout.feature,
+        "matrix": [layout.size_x, layout.size_y, layout.size_z],
         "units": {
             "x": "m",
             "z": "m",
@@ -377,10 +468,10 @@ def _read_archive(
             "x_factor_to_um": _METRE_TO_UM,
             "z_factor_to_um": _METRE_TO_UM,
         },
-        "z_data_type": z_type,
+        "z_data_type": layout.z_type,
         "n_flagged_invalid": int((~valid).sum()) if valid is not None else 0,
     }
-    if feature == "SUR":
+    if layout.feature == "SUR":
         metadata["line"] = row
         metadata["line_y_um"] = (y_offset + dy * row) * _METRE_TO_UM
     instrument = {
@@ -388,4 +479,18 @@ def _read_archive(
         for key in ("Manufacturer", "Model", "Serial", "Version")
     }
     metadata["instrument"] = {k: v[:200] for k, v in instrument.items() if v}
+    return metadata
+
+
+def _read_archive(
+    path: Path, archive: zipfile.ZipFile, *, line: int | None, max_points: int
+) -> RawProfile:
+    root = _main_xml(path, archive)
+    layout = _layout(path, root, max_points)
+    members = _members(path, archive, root, layout)
+    row = _row(path, layout, line)
+    data, valid_bytes = _read_row(path, archive, root, layout, members, row)
+    z, valid = _heights(layout, data, valid_bytes, row)
+    x = (layout.x_offset + layout.dx * np.arange(layout.size_x)) * _METRE_TO_UM
+    metadata = _metadata(path, root, layout, row, valid)
     return RawProfile(x, z, x_resolution=0.0, metadata=metadata)

@@ -1,0 +1,255 @@
+"""Local contact laws: the normal force of one accepted contact, and the tangential spring.
+
+A normal law maps the local geometry of one contact (the overlap δ [µm] of the two surface
+spheres, eq. 10, and R_eff = 2/(κ^u + κ^l) [µm]) and the contact's history state to a normal
+force per unit thickness [mN/µm] and a contact half-width [µm] (the contact's share of A_S).
+Both kernels (the monotone loading of :mod:`.kernel` and the load paths of :mod:`.path_kernel`)
+call the same compiled functions:
+
+* :func:`normal_law` ``(code, params, delta, r_eff, state, point) -> (force, width)``: pure (a
+  trial evaluation, e.g. while a force-controlled step solves for δ_N, changes nothing);
+* :func:`commit_law` ``(code, params, delta, r_eff, state, point) -> None``: called once per
+  accepted contact when a step is committed; a history-dependent law updates ``state[point]``;
+* :func:`tangential_spring` ``(previous, increment, mu0, normal_force) -> (force, slipping,
+  trial)``: eqs. 11–13.
+
+``code`` is the law's :attr:`ContactLaw.code`, ``params`` is :meth:`ContactLaw.kernel_parameters`
+(E* [GPa] first, then the law's own parameters), ``state`` a 2-D float array with one row per
+lower-body grid point and :attr:`ContactLaw.n_state` columns (it survives separation and persists
+across the steps of a run), and ``point`` the lower grid index of the contact. A law with a
+:attr:`ContactLaw.reach` > 0 [µm] acts before the spheres touch: the kernels then visit points whose
+gap is ≤ reach and accept contacts with δ > −reach.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, NamedTuple, Protocol, runtime_checkable
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ParameterError
+
+__all__ = [
+    "HERTZ",
+    "ContactLaw",
+    "Hertz",
+    "Material",
+    "check_law",
+    "commit_law",
+    "kernel_material",
+    "new_law_state",
+    "normal_law",
+    "tangential_spring",
+]
+
+_QUARTER_PI = 0.25 * math.pi
+
+#: Kernel code of the Hertzian line contact.
+HERTZ = 0
+
+
+@runtime_checkable
+class ContactLaw(Protocol):
+    """What a local normal contact law exposes to :func:`splinecontact.simulate`.
+
+    Attributes
+    ----------
+    code : int
+        Dispatch code of :func:`normal_law` [1].
+    name : str
+        Name recorded with the results.
+    reach : float
+        Largest positive gap [µm] at which the law carries force (0 for laws acting only in
+        overlap).
+    n_state : int
+        History values kept per lower-body grid point [1] (0 for history-free laws).
+    """
+
+    code: ClassVar[int]
+    name: ClassVar[str]
+    n_state: ClassVar[int]
+
+    @property
+    def reach(self) -> float: ...
+
+    def validate(self) -> None:
+        """Raise a :class:`~splinecontact.errors.ParameterError` subclass on bad parameters."""
+
+    def parameters(self) -> NDArray[np.float64]:
+        """The law's own parameters in the order the kernel reads them (units per law)."""
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E*, *parameters()]``: E* [GPa] first, as :func:`normal_law` reads it."""
+
+
+@dataclass(frozen=True)
+class Hertz:
+    """Hertzian line contact (paper eq. 10): F = (π/4) E* δ, half-width a = √(δ R_eff).
+
+    No parameters besides E* (given to :func:`splinecontact.simulate`), no reach, no history.
+    """
+
+    code: ClassVar[int] = HERTZ
+    name: ClassVar[str] = "hertz"
+    n_state: ClassVar[int] = 0
+
+    @property
+    def reach(self) -> float:
+        """Gap [µm] below which the law acts: 0 (force only in overlap, δ > 0)."""
+        return 0.0
+
+    def validate(self) -> None:
+        """Nothing to check (no parameters)."""
+
+    def parameters(self) -> NDArray[np.float64]:
+        """No parameters: an empty array."""
+        return np.zeros(0)
+
+    def kernel_parameters(self, e_star: float) -> NDArray[np.float64]:
+        """``[E*]`` [GPa]."""
+        return np.concatenate(([float(e_star)], self.parameters()))
+
+
+def check_law(law: object) -> ContactLaw:
+    """Validate ``law`` (a :class:`ContactLaw` such as ``Hertz()``) and return it.
+
+    Raises
+    ------
+    ParameterError
+        ``law`` is not a contact law, or its parameters are invalid.
+    """
+    if not isinstance(law, ContactLaw) or isinstance(law, type):
+        raise ParameterError(
+            f"law = {law!r} is not a contact law; give an instance such as "
+            "splinecontact.contact.Hertz()"
+        )
+    law.validate()
+    return law
+
+
+def new_law_state(law: ContactLaw, n_points: int) -> NDArray[np.float64]:
+    """Zeroed history state: one row per lower-body grid point, ``law.n_state`` columns."""
+    return np.zeros((n_points, law.n_state))
+
+
+class Material(NamedTuple):
+    """What the compiled kernels know of the contact law and of the tangential spring.
+
+    Attributes
+    ----------
+    law_code : int
+        :attr:`ContactLaw.code`.
+    law_params : ndarray
+        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``.
+    law_state : ndarray
+        History state, shape (n lower grid points, :attr:`ContactLaw.n_state`); persists across
+        the steps of a run (and across separation).
+    reach : float
+        :attr:`ContactLaw.reach` [µm].
+    g_star : float
+        Effective shear modulus G* [GPa] (eq. 11).
+    mu0 : float
+        Molecular friction coefficient μ0 [1] (eqs. 12–13).
+    """
+
+    law_code: int
+    law_params: NDArray[np.float64]
+    law_state: NDArray[np.float64]
+    reach: float
+    g_star: float
+    mu0: float
+
+
+def kernel_material(
+    law: ContactLaw, *, e_star: float, g_star: float, mu0: float, n_points: int
+) -> Material:
+    """The kernels' view of ``law`` with E* [GPa], G* [GPa], μ0 [1], and a fresh zero state for
+    ``n_points`` lower grid points."""
+    return Material(
+        law_code=law.code,
+        law_params=law.kernel_parameters(e_star),
+        law_state=new_law_state(law, n_points),
+        reach=float(law.reach),
+        g_star=float(g_star),
+        mu0=float(mu0),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def normal_law(
+    code: int,
+    params: NDArray[np.float64],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """Normal force [mN/µm] and contact half-width [µm] of one contact (eq. 10).
+
+    Parameters
+    ----------
+    code : int
+        The law's dispatch code (:data:`HERTZ`).
+    params : ndarray
+        ``[E* [GPa], *law parameters]``.
+    delta : float
+        Overlap of the surface spheres [µm] (> −reach).
+    r_eff : float
+        Effective radius 2/(κ^u + κ^l) [µm].
+    state : ndarray
+        History state, shape (n_points, n_state); read only.
+    point : int
+        Lower-body grid index of the contact.
+    """
+    # Hertz (code 0) is the only law so far; new laws add branches here.
+    return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+
+
+@numba.njit(cache=True, nogil=True)
+def commit_law(
+    code: int,
+    params: NDArray[np.float64],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> None:  # pragma: no cover - compiled
+    """Update the history ``state[point]`` of an accepted contact when its step is committed."""
+    # Hertz keeps no history.
+    return
+
+
+@numba.njit(cache=True, nogil=True)
+def tangential_spring(
+    previous: float, increment: float, mu0: float, normal_force: float
+) -> tuple[float, bool, float]:  # pragma: no cover - compiled
+    """Incremental tangential force with the Coulomb cap (eqs. 11–13).
+
+    Parameters
+    ----------
+    previous : float
+        Spring force of the contact at the previous step [mN/µm] (0 for a new contact).
+    increment : float
+        G* times the relative tangential displacement increment [mN/µm] (eq. 11).
+    mu0 : float
+        Molecular friction coefficient μ0 [1].
+    normal_force : float
+        Normal force of the contact [mN/µm].
+
+    Returns
+    -------
+    (force, slipping, trial)
+        The capped force |F^t| ≤ μ0 F^n [mN/µm] (sign kept, eq. 13), whether the cap acted,
+        and the uncapped trial force [mN/µm] (eq. 11).
+    """
+    trial = previous - increment
+    cap = mu0 * normal_force
+    if trial > cap:
+        return cap, True, trial
+    if trial < -cap:
+        return -cap, True, trial
+    return trial, False, trial

@@ -1,0 +1,297 @@
+"""``simulate``: the public entry point of the contact stage and its argument checks."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._checks import check_integer
+from ..errors import ParameterError
+from ..profile import Profile, surface_statistics
+from ..results import ContactRecord, SimulationResult
+from ..spline import SplineFit, fit_spline
+from .geometry import check_bodies, check_positive, contact_geometry
+from .kernel import run_loading
+from .laws import ContactLaw, Hertz, check_law
+
+if TYPE_CHECKING:
+    from .segments import Segment
+
+__all__ = ["MAX_RECORDED_CONTACTS", "MAX_STEPS", "SIMULATION_PARAMETERS", "simulate"]
+
+#: Keyword parameters of :func:`simulate` that describe the model (not ``record_contacts``).
+SIMULATION_PARAMETERS = (
+    "steps",
+    "final_displacement",
+    "final_displacement_factor",
+    "e_star",
+    "g_star",
+    "mu0",
+    "alpha",
+    "x0",
+)
+
+#: Default ceiling on ``steps`` [1] (10⁶; the paper uses 1000). Raise it with ``max_steps=``.
+MAX_STEPS = 1_000_000
+
+#: Most contact slots ``record_contacts`` may reserve (points whose gap has closed, summed over
+#: the recorded steps) [1]: 2·10⁷ slots are 1.6 GB.
+MAX_RECORDED_CONTACTS = 20_000_000
+
+
+def _record_steps(record_contacts: Iterable[int] | str | None, steps: int) -> NDArray[np.int64]:
+    if record_contacts is None:
+        return np.zeros(0, dtype=np.int64)
+    if isinstance(record_contacts, str):
+        if record_contacts == "all":
+            return np.arange(steps + 1, dtype=np.int64)
+        if record_contacts == "last":
+            return np.array([steps], dtype=np.int64)
+        raise ParameterError(
+            f"record_contacts = {record_contacts!r}; give step indices, 'all' or 'last'"
+        )
+    if isinstance(record_contacts, np.ndarray):
+        record_contacts = record_contacts.ravel().tolist()
+    if not isinstance(record_contacts, Iterable):
+        raise ParameterError(
+            f"record_contacts = {record_contacts!r}; give a list of step indices (for example "
+            "[0, 10]), 'all' or 'last'"
+        )
+    chosen_steps: list[int] = []
+    for value in record_contacts:
+        try:
+            chosen_steps.append(check_integer("record_contacts step", value, minimum=0))
+        except ParameterError:
+            raise ParameterError(
+                f"record_contacts step {value!r} is not a step index; give integers in "
+                f"0…{steps} (the steps of this run)"
+            ) from None
+    chosen = np.unique(np.asarray(chosen_steps, dtype=np.int64))
+    bad = chosen[(chosen < 0) | (chosen > steps)]
+    if bad.size:
+        raise ParameterError(
+            f"record_contacts step {int(bad[0])} is outside 0…{steps} (the steps of this run)"
+        )
+    return chosen
+
+
+def simulate(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    *,
+    steps: int = 1000,
+    final_displacement: float | None = None,
+    final_displacement_factor: float = 0.2,
+    e_star: float = 10.0,
+    g_star: float | None = None,
+    mu0: float = 0.3,
+    alpha: float = 2.0,
+    x0: float = 1.0,
+    record_contacts: Iterable[int] | str | None = None,
+    path: Sequence[Segment] | None = None,
+    max_steps: int = MAX_STEPS,
+    diagnostics: bool = True,
+    law: ContactLaw | None = None,
+) -> SimulationResult:
+    """Press two rough bodies (or a rough body and a rigid flat) together by SAD.
+
+    The upper body is lowered in ``steps`` equal increments from zero minimum gap (step 0) to
+    ``final_displacement``; at every step the accepted contacts of Table 1 and eq. 9 carry a
+    Hertzian line-contact force (π/4)E*δ along their repulsive direction and an incremental
+    tangential force (eqs. 11–13); eq. 14 sums them.
+
+    Parameters
+    ----------
+    lower : Profile
+        Lower body; heights [µm] point out of the body (as a profilometer records them).
+    upper : Profile or "flat"
+        Upper body, also with heights [µm] out of its own body (it is turned over here to face
+        the lower one), or ``"flat"`` for a rigid flat. Must share the lower profile's grid.
+    steps : int, optional
+        Number of displacement increments N [1] (paper: 1000); results have N + 1 records.
+    final_displacement : float, optional
+        Displacement δ_N at the last step [µm]. Default: ``final_displacement_factor`` × the
+        lower profile's peak-to-valley height.
+    final_displacement_factor : float, optional
+        Fraction [1] of the lower peak-to-valley height used by default (paper: 0.2).
+    e_star : float, optional
+        Effective modulus E* [GPa] (paper: 10 GPa).
+    g_star : float, optional
+        Effective shear modulus G* [GPa]; default E*/2.6 (ν = 0.3).
+    mu0 : float, optional
+        Molecular friction coefficient μ0 [1] capping |F^t| ≤ μ0|F^n| (eqs. 12–13).
+    alpha : float, optional
+        Spline tightness exponent α [1] (eq. 3; paper: 2).
+    x0 : float, optional
+        Spline unit length x0 [µm] (eqs. 2–3; paper: 1 µm).
+    record_contacts : iterable of int, "all", "last" or None, optional
+        Steps at which to keep every accepted contact (for plots such as Fig. 9). The points
+        whose gap has closed, summed over these steps, may not exceed
+        ``MAX_RECORDED_CONTACTS`` (2·10⁷).
+    path : sequence of Segment, optional
+        A load path of normal [µm] or force-controlled [mN/µm] and tangential [µm] segments
+        (:class:`splinecontact.Segment`, see ``docs/friction.md``). Replaces ``steps`` and
+        ``final_displacement``; without it the run is the single normal loading above.
+    max_steps : int, optional
+        Ceiling [1] on ``steps`` (default ``MAX_STEPS`` = 10⁶), checked before anything is
+        allocated.
+    diagnostics : bool, optional
+        Run the checks of :mod:`splinecontact.diagnostics` (form, coarse grid, near-full
+        contact) and issue their warnings (default). ``False`` skips them (about 35 ms at 10⁶
+        points), e.g. for the realizations of an ensemble.
+    law : ContactLaw, optional
+        Local normal contact law (:mod:`splinecontact.contact.laws`); default
+        :class:`~splinecontact.contact.laws.Hertz`, F = (π/4)E*δ (eq. 10).
+
+    Returns
+    -------
+    SimulationResult
+        Curves of F_N, F_T [mN/µm], A_S [µm], contact counts and mean separation [µm] per step.
+
+    Raises
+    ------
+    ParameterError
+        A body is not a Profile (or ``"flat"``); a parameter is not a finite number of the right
+        kind (``None``, a string, ``True``, NaN, inf); steps < 1 or above ``max_steps``,
+        E* ≤ 0, G* < 0, μ0 < 0, α ≤ 0, x0 ≤ 0, final displacement ≤ 0 or beyond 10⁵⁰ µm,
+        a non-integer or out-of-range ``record_contacts`` step, too many contacts to record.
+    GridMismatchError
+        The two profiles do not share a grid.
+
+    Warns
+    -----
+    splinecontact.diagnostics.SimulationWarning
+        A body dominated by tilt or form, a grid too coarse for the spline, or a final contact
+        area near full contact (see :mod:`splinecontact.diagnostics`).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from splinecontact import simulate, weierstrass_mandelbrot_pair
+    >>> lower, upper = weierstrass_mandelbrot_pair(1.5, seed=1, n_points=4096, length=10.0)
+    >>> result = simulate(lower, upper, steps=20)
+    >>> result.normal_force.shape, bool((np.diff(result.normal_force) >= 0).all())
+    ((21,), True)
+    >>> result.to_xarray()["normal_force"].attrs["units"]
+    'mN/µm'
+    """
+    check_bodies(lower, upper)
+    max_steps = check_integer("max_steps", max_steps, minimum=1)
+    steps = check_integer(
+        "steps", steps, minimum=1, maximum=max_steps, note="paper: 1000", raise_with="max_steps"
+    )
+    if final_displacement is not None:
+        check_positive("final_displacement", final_displacement, " µm")
+    check_positive("final_displacement_factor", final_displacement_factor, "")
+    e_star = check_positive("e_star", e_star, " GPa")
+    g_star = (
+        e_star / 2.6
+        if g_star is None
+        else check_positive("g_star", g_star, " GPa", allow_zero=True)
+    )
+    mu0 = check_positive("mu0", mu0, "", allow_zero=True)
+    check_positive("alpha", alpha, "")
+    check_positive("x0", x0, " µm")
+    law = Hertz() if law is None else check_law(law)
+    if path is not None:
+        from .loadpath import simulate_path
+
+        return simulate_path(
+            lower, upper, path, steps=steps, final_displacement=final_displacement, e_star=e_star,
+            g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, record_contacts=record_contacts, law=law,
+        )  # fmt: skip
+    record_steps = _record_steps(record_contacts, steps)
+
+    check_bodies(lower, upper)
+    fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    geometry = contact_geometry(
+        lower, upper, steps=steps, final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
+        fits=(fit_l, fit_u), reach=law.reach,
+    )  # fmt: skip
+    if record_steps.size:
+        reserved = int(geometry.first_step_index[record_steps].sum())
+        if reserved > MAX_RECORDED_CONTACTS:
+            raise ParameterError(
+                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
+                f"closed, summed over {record_steps.size} recorded steps), above "
+                f"{MAX_RECORDED_CONTACTS}; record fewer steps"
+            )
+    run = run_loading(
+        geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
+    )
+    if diagnostics:
+        from ..diagnostics import warn_simulation  # form, coarse grid, near-full contact
+
+        warn_simulation(lower, upper, run.curves, alpha=alpha, x0=x0)
+    return build_result(
+        lower, upper, (fit_l, fit_u), run.curves, run.contacts, steps=steps,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0,
+    )  # fmt: skip
+
+
+def spline_fits(
+    lower: Profile, upper: Profile | Literal["flat"], *, alpha: float, x0: float
+) -> tuple[SplineFit, SplineFit | None]:
+    """Spline fits (eqs. 2–3) of the lower body and of the upper one (``None`` for a flat)."""
+    fit_l = fit_spline(lower, alpha=alpha, x0=x0)
+    return fit_l, (fit_spline(upper, alpha=alpha, x0=x0) if isinstance(upper, Profile) else None)
+
+
+def build_result(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    fits: tuple[SplineFit, SplineFit | None],
+    curves: dict[str, NDArray[Any]],
+    contacts: tuple[ContactRecord, ...],
+    *,
+    steps: int,
+    final_displacement_factor: float,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    extra: dict[str, Any] | None = None,
+) -> SimulationResult:
+    """A :class:`SimulationResult`: the curves, the model parameters (and ``extra`` ones), the
+    grid, and the roughness scalars of :func:`splinecontact.profile.surface_statistics`.
+
+    Units as in :func:`simulate` (E*, G* [GPa], α, μ0 [1], x0 [µm]).
+    """
+    flat = not isinstance(upper, Profile)
+    final = float(curves["displacement"][-1])
+    parameters: dict[str, Any] = {
+        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
+        "steps": steps,
+        "final_displacement": final,
+        "final_displacement_factor": float(final_displacement_factor),
+        "e_star": e_star,
+        "g_star": g_star,
+        "mu0": mu0,
+        "alpha": float(alpha),
+        "x0": float(x0),
+        "r_min": 0.5 * lower.dx,
+        "dx": lower.dx,
+        "n_points": lower.n_points,
+        "length": lower.length,
+        **(extra or {}),
+    }
+    fit_l, fit_u = fits
+    stats = surface_statistics(
+        lower,
+        upper if isinstance(upper, Profile) else None,
+        fit_l.slope,
+        None if fit_u is None else fit_u.slope,
+    )
+    return SimulationResult(
+        curves=curves,
+        scalars={**stats, "final_displacement": final},
+        parameters=parameters,
+        contacts=contacts,
+        lower_metadata=dict(lower.metadata),
+        upper_metadata=dict(upper.metadata) if isinstance(upper, Profile) else {"source": "flat"},
+    )
