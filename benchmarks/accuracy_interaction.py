@@ -2,7 +2,7 @@
 
 For each realization (Weierstrass–Mandelbrot, 2¹⁶ points over 100 µm, package defaults) SAD runs
 its 1000 displacement steps twice, independent (the paper's eq. 10) and interacting
-(:mod:`splinecontact.interaction`); 20 forces evenly spaced up to the interacting variant's
+(:mod:`splinecontact.contact.interaction`); 20 forces evenly spaced up to the interacting variant's
 largest force are solved exactly by the BEM on the mirrored smoothed composite profile (as
 ``splinecontact compare`` does), and both variants are read at those forces by linear
 interpolation between their steps. The BEM states are cached per realization in ``--cache`` so
@@ -31,7 +31,11 @@ from splinecontact import Profile, bem
 from splinecontact.compare import _solve_in_substeps
 from splinecontact.contact import contact_geometry, run_loading
 from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-from splinecontact.interaction import InteractionSettings, extended_geometry, interacting_loading
+from splinecontact.contact.interaction import (
+    InteractionSettings,
+    extended_geometry,
+    interacting_loading,
+)
 from splinecontact.spline import fit_spline
 
 E_STAR = 10.0
@@ -85,7 +89,7 @@ def realization(
     else:
         lower = weierstrass_mandelbrot(d, n_points=n_points, seed=seed)
         upper = "flat"
-    geo, _ = contact_geometry(
+    geo = contact_geometry(
         lower,
         upper,
         steps=1000,
@@ -95,9 +99,9 @@ def realization(
         x0=1.0,
     )
     t0 = time.process_time()
-    sad, _ = run_loading(geo, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
+    sad = run_loading(geo, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3).curves
     t1 = time.process_time()
-    geo_x, _ = extended_geometry(
+    geo_x = extended_geometry(
         lower,
         upper,
         steps=1000,
@@ -125,11 +129,13 @@ def realization(
         "sad_width": interpolate(sad["normal_force"], np.sqrt(2) * sad["contact_area"], forces),
         "sad_sep": interpolate(sad["normal_force"], sad["mean_separation"], forces),
         "sad_n": interpolate(sad["normal_force"], sad["n_contacts"].astype(float), forces),
-        "int_length": interpolate(inter["normal_force"], inter["contact_length"], forces),
+        "int_length": interpolate(inter["normal_force"], inter["coalesced_contact_length"], forces),
         "int_width": interpolate(inter["normal_force"], np.sqrt(2) * inter["contact_area"], forces),
         "int_sep": interpolate(inter["normal_force"], inter["mean_separation"], forces),
         "int_n": interpolate(inter["normal_force"], inter["n_contacts"].astype(float), forces),
-        "int_patches": interpolate(inter["normal_force"], inter["n_patches"].astype(float), forces),
+        "int_patches": interpolate(
+            inter["normal_force"], inter["n_contact_patches"].astype(float), forces
+        ),
         "bem_length": exact["length"],
         "bem_gap": exact["gap"],
         "bem_patches": exact["patches"],

@@ -29,7 +29,7 @@ from splinecontact import Profile, bem
 from splinecontact.compare import _solve_in_substeps
 from splinecontact.contact import contact_geometry, run_loading
 from splinecontact.generate import weierstrass_mandelbrot
-from splinecontact.interaction import extended_geometry, interacting_loading
+from splinecontact.contact.interaction import extended_geometry, interacting_loading
 from splinecontact.spline import fit_spline
 
 E_STAR = 10.0
@@ -60,14 +60,14 @@ def main() -> None:
     )
     # compile both kernels on a small profile first
     small = weierstrass_mandelbrot(args.dimension, n_points=4096, seed=args.seed)
-    g, _ = extended_geometry(small, "flat", **kwargs)  # type: ignore[arg-type]
+    g = extended_geometry(small, "flat", **kwargs)  # type: ignore[arg-type]
     interacting_loading(g, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3, n_points=4096)
-    g, _ = contact_geometry(small, "flat", **kwargs)  # type: ignore[arg-type]
+    g = contact_geometry(small, "flat", **kwargs)  # type: ignore[arg-type]
     run_loading(g, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
 
     start = clock()
-    geometry, _ = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
-    plain, _ = run_loading(geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
+    geometry = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
+    plain = run_loading(geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3).curves
     cpu_sad, wall_sad = since(start)
     print(
         f"plain SAD: CPU {cpu_sad:.3f} s, wall {wall_sad:.3f} s; "
@@ -75,7 +75,7 @@ def main() -> None:
     )
 
     start = clock()
-    geometry, _ = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
+    geometry = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
     inter, _ = interacting_loading(
         geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3, n_points=profile.n_points
     )

@@ -10,16 +10,16 @@ import scipy.fft as sfft
 
 from splinecontact import Profile, bem
 from splinecontact.contact import contact_geometry, run_loading
-from splinecontact.errors import ParameterError
-from splinecontact.interaction import (
+from splinecontact.contact.halfplane import _Operator
+from splinecontact.contact.interaction import (
     InteractionSettings,
-    _Operator,
     extended_geometry,
     interacting_loading,
     pair_coefficient,
     periodic_green,
     self_coefficient,
 )
+from splinecontact.errors import ParameterError
 from splinecontact.spline import fit_spline
 
 E_STAR = 10.0
@@ -149,9 +149,9 @@ def test_single_asperity_interacting_independent_and_exact_agree() -> None:
     kwargs = dict(
         steps=200, final_displacement=6e-3, final_displacement_factor=0.2, alpha=2.0, x0=1.0
     )
-    plain, _ = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
-    independent, _ = run_loading(plain, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3)
-    geometry, _ = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
+    plain = contact_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
+    independent = run_loading(plain, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3).curves
+    geometry = extended_geometry(profile, "flat", **kwargs)  # type: ignore[arg-type]
     inter, _ = interacting_loading(
         geometry, e_star=E_STAR, g_star=E_STAR / 2.6, mu0=0.3, n_points=n
     )
@@ -159,21 +159,23 @@ def test_single_asperity_interacting_independent_and_exact_agree() -> None:
     # Hertz: a² = 4PR/(πE*), both variants, each at its own force
     for curves, width in (
         (independent, np.sqrt(2) * independent["contact_area"]),
-        (inter, inter["contact_length"]),
+        (inter, inter["coalesced_contact_length"]),
     ):
         force = curves["normal_force"][steps]
         hertz = 2.0 * np.sqrt(4.0 * force * radius / (math.pi * E_STAR))
         np.testing.assert_allclose(width[steps], hertz, rtol=2e-3)
         assert np.all(curves["n_contacts"][steps] == 1)
     np.testing.assert_allclose(
-        np.sqrt(2) * inter["contact_area"][steps], inter["contact_length"][steps], rtol=2e-3
+        np.sqrt(2) * inter["contact_area"][steps],
+        inter["coalesced_contact_length"][steps],
+        rtol=2e-3,
     )
     # and the interacting variant's approach and mean gap are the exact (BEM) ones
     approach, gap, length, patches = bem_at(profile, inter["normal_force"][steps])
     assert np.all(patches == 1)
     np.testing.assert_allclose(inter["displacement"][steps], approach, rtol=2e-3)
     np.testing.assert_allclose(inter["mean_separation"][steps], gap, rtol=1e-5)
-    np.testing.assert_allclose(inter["contact_length"][steps], length, rtol=0.01)
+    np.testing.assert_allclose(inter["coalesced_contact_length"][steps], length, rtol=0.01)
     # the independent variant is much stiffer in plane strain (log of the body size)
     assert np.all(independent["normal_force"][steps] > 1.4 * inter["normal_force"][steps])
 
@@ -185,7 +187,7 @@ def two_asperity_errors(
     radius = 200.0
     mid = n // 2 * dx
     profile = circle_profile(n, dx, radius, [mid - spacing / 2, mid + spacing / 2])
-    geometry, _ = extended_geometry(
+    geometry = extended_geometry(
         profile,
         "flat",
         steps=100,
@@ -200,9 +202,9 @@ def two_asperity_errors(
     steps = np.array([20, 40, 60, 80, 100])
     approach, _, length, patches = bem_at(profile, inter["normal_force"][steps])
     assert np.all(patches == 2)
-    assert np.all(inter["n_patches"][steps] == 2)
+    assert np.all(inter["n_contact_patches"][steps] == 2)
     err_approach = float(np.max(np.abs(inter["displacement"][steps] / approach - 1.0)))
-    err_length = float(np.max(np.abs(inter["contact_length"][steps] / length - 1.0)))
+    err_length = float(np.max(np.abs(inter["coalesced_contact_length"][steps] / length - 1.0)))
     return err_approach, err_length, spacing / (length[-1] / 4)
 
 
@@ -225,7 +227,7 @@ def test_two_asperities_force_approach_matches_bem_fine(spacing: float) -> None:
 
 def test_bad_settings_are_refused() -> None:
     profile = circle_profile(256, 0.01, 50.0, [1.28])
-    geometry, _ = extended_geometry(
+    geometry = extended_geometry(
         profile,
         "flat",
         steps=5,
@@ -243,7 +245,7 @@ def test_bad_settings_are_refused() -> None:
             interacting_loading(
                 geometry, e_star=E_STAR, g_star=1.0, mu0=0.3, n_points=256, settings=settings
             )
-    with pytest.raises(ParameterError, match="reach"):
+    with pytest.raises(ParameterError, match="reach_fraction"):
         extended_geometry(
             profile,
             "flat",
@@ -252,5 +254,41 @@ def test_bad_settings_are_refused() -> None:
             final_displacement_factor=0.2,
             alpha=2.0,
             x0=1.0,
-            reach=-1.0,
+            reach_fraction=-1.0,
         )
+
+
+def test_simulate_with_interaction() -> None:
+    from splinecontact import simulate
+    from splinecontact.generate import weierstrass_mandelbrot
+
+    profile = weierstrass_mandelbrot(1.5, n_points=4096, length=10.0, seed=3)
+    plain = simulate(profile, "flat", steps=50, diagnostics=False)
+    again = simulate(profile, "flat", steps=50, diagnostics=False, interaction=False)
+    for name in plain.curves:  # the default stays the paper's independent contacts
+        np.testing.assert_array_equal(plain.curves[name], again.curves[name])
+    coupled = simulate(
+        profile, "flat", steps=50, diagnostics=False, interaction=True, record_contacts="last"
+    )
+    assert coupled.coalesced_contact_length is not None
+    assert coupled.parameters["interaction"] == "elastic half-plane"
+    np.testing.assert_array_equal(coupled.displacement, plain.displacement)
+    np.testing.assert_array_equal(coupled.mean_separation, plain.mean_separation)
+    # coupled contacts carry less at the same rigid approach, and never more than SAD's law
+    assert coupled.normal_force[-1] < plain.normal_force[-1]
+    last = coupled.contacts[-1]
+    assert np.all(last.normal_force > 0)
+    np.testing.assert_allclose(last.normal_force, 0.25 * math.pi * E_STAR * last.overlap)
+    assert last.normal_force.sum() * 0.999 <= coupled.normal_force_normal_part[-1] * 1.001
+    ds = coupled.to_xarray()
+    assert ds["coalesced_contact_length"].attrs["units"] == "µm"
+
+
+def test_simulate_interaction_refuses_what_it_does_not_support() -> None:
+    from splinecontact import Segment, simulate
+
+    profile = circle_profile(256, 0.01, 50.0, [1.28])
+    with pytest.raises(ParameterError, match="interaction"):
+        simulate(profile, "flat", steps=5, interaction="yes")  # type: ignore[arg-type]
+    with pytest.raises(ParameterError, match="load paths"):
+        simulate(profile, "flat", interaction=True, path=[Segment(normal=1e-3, steps=5)])

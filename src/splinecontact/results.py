@@ -189,6 +189,10 @@ class SimulationResult:
     n_slipping: _COUNT | None = field(init=False, default=None)
     dissipated_work: _FLOAT | None = field(init=False, default=None)
     normal_force_target: _FLOAT | None = field(init=False, default=None)
+    coalesced_contact_length: _FLOAT | None = field(init=False, default=None)
+    n_contact_patches: _COUNT | None = field(init=False, default=None)
+    interaction_iterations: _COUNT | None = field(init=False, default=None)
+    reach_exceeded: _COUNT | None = field(init=False, default=None)
     # --- per-simulation scalars (schema table "scalar"), set from ``scalars`` ---------------
     final_displacement: float = field(init=False)
     ra_lower: float = field(init=False)

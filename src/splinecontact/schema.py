@@ -166,6 +166,25 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
             "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
             _F,
         ),
+        (
+            "coalesced_contact_length",
+            "µm",
+            "interacting contacts: length of the union of the contact intervals",
+            _F,
+        ),
+        (
+            "n_contact_patches",
+            "1",
+            "interacting contacts: connected pieces of the union of the contact intervals",
+            _I,
+        ),
+        ("interaction_iterations", "1", "interacting contacts: conjugate-gradient iterations", _I),
+        (
+            "reach_exceeded",
+            "1",
+            "interacting contacts: 1 where summits beyond the candidate set could touch",
+            _I,
+        ),
     ],
     "scalar": [
         ("final_displacement", "µm", "displacement at the last step", _F),

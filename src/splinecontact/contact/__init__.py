@@ -5,6 +5,8 @@
 * :mod:`.kernel` — the monotone normal loading loop;
 * :mod:`.segments`, :mod:`.path_kernel`, :mod:`.loadpath` — load paths (their description, the
   compiled step and the driver: normal and tangential, force control);
+* :mod:`.interaction` — accepted contacts coupled through the elastic half-plane
+  (``simulate(..., interaction=True)``);
 * :mod:`.simulation` — :func:`simulate` and its argument checks.
 """
 
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 from ..errors import ForceControlError, LoadPathError
 from .geometry import ContactGeometry, contact_geometry
+from .interaction import InteractionSettings
 from .kernel import LoadingRun, run_loading
 from .laws import ContactLaw, Hertz
 from .loadpath import run_path, simulate_path
@@ -26,6 +29,7 @@ __all__ = [
     "ContactLaw",
     "ForceControlError",
     "Hertz",
+    "InteractionSettings",
     "LoadPathError",
     "LoadingRun",
     "Segment",
