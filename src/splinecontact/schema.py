@@ -247,6 +247,26 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
         ("mean_gap_error", "1", "sad_mean_separation / bem_mean_gap − 1", _F),
         ("ratio_approach", "1", "bem_approach / sad_displacement", _F),
         ("ratio_contacts", "1", "bem_n_patches / sad_n_contacts", _F),
+        (
+            "int_displacement",
+            "µm",
+            "interacting SAD: displacement δ_N at this force (interpolated between steps)",
+            _F,
+        ),
+        (
+            "int_contact_length",
+            "µm",
+            "interacting SAD: length of the union of the contact intervals",
+            _F,
+        ),
+        ("int_contact_area", "µm", "interacting SAD: A_S = Σ √(δ^eff_i R_eff,i)", _F),
+        ("int_n_contacts", "1", "interacting SAD: loaded contacts", _F),
+        ("int_n_patches", "1", "interacting SAD: connected contact patches", _F),
+        ("int_mean_separation", "µm", "interacting SAD: mean gap of the mean lines", _F),
+        ("ratio_length_int", "1", "int_contact_length / bem_contact_length_subgrid", _F),
+        ("mean_gap_error_int", "1", "int_mean_separation / bem_mean_gap − 1", _F),
+        ("ratio_approach_int", "1", "bem_approach / int_displacement", _F),
+        ("ratio_patches_int", "1", "bem_n_patches / int_n_patches", _F),
     ],
 }
 

@@ -172,4 +172,11 @@ def register(app: typer.Typer) -> None:
             f"approach exact / SAD {comparison.median('ratio_approach'):.3g}, "
             f"patches / SAD contacts {comparison.median('ratio_contacts'):.3g}"
         )
+        typer.echo(
+            f"interacting SAD medians: contact length / exact "
+            f"{comparison.median('ratio_length_int'):.3g}, mean gap error "
+            f"{comparison.median('mean_gap_error_int'):+.3g}, approach exact / interacting "
+            f"{comparison.median('ratio_approach_int'):.3g}, patches / interacting patches "
+            f"{comparison.median('ratio_patches_int'):.3g}"
+        )
         typer.echo(f"wrote {table} and {picture}")
