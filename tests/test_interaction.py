@@ -292,3 +292,21 @@ def test_simulate_interaction_refuses_what_it_does_not_support() -> None:
         simulate(profile, "flat", steps=5, interaction="yes")  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match="load paths"):
         simulate(profile, "flat", interaction=True, path=[Segment(normal=1e-3, steps=5)])
+
+
+@pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")
+def test_compare_reports_the_interacting_variant() -> None:
+    from splinecontact.compare import compare_profiles
+
+    profile = circle_profile(4096, 0.01, 200.0, [20.48])
+    comparison = compare_profiles(
+        profile, "flat", steps=100, final_displacement=6e-3, n_forces=4, interaction=True
+    )
+    c = comparison.columns
+    assert np.all(np.isfinite(c["ratio_length_int"]))
+    np.testing.assert_allclose(c["ratio_length_int"], 1.0, rtol=0.02)
+    np.testing.assert_allclose(c["mean_gap_error_int"], 0.0, atol=1e-4)
+    np.testing.assert_allclose(c["ratio_approach_int"], 1.0, rtol=0.01)
+    assert np.all(c["ratio_patches_int"] == 1.0)
+    # the independent variant on the same forces: its approach is too small (plane strain)
+    assert np.all(c["ratio_approach"] > 1.3)

@@ -182,7 +182,7 @@ def compare_profiles(
     max_iterations: int = COMPARE_MAX_ITERATIONS,
     max_contact_fraction: float = MAX_CONTACT_FRACTION,
     progress: Callable[[str], None] | None = None,
-    interaction: bool = True,
+    interaction: bool = False,
 ) -> Comparison:
     """Run SAD and the exact BEM reference on the same smoothed geometry at matched forces.
 
