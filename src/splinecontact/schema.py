@@ -15,6 +15,8 @@ Each variable belongs to one *table* (the object whose rows it describes):
 ``path_step``
     per-step curves present only in some runs (``tangential_displacement`` in every run of this
     version, the rest on load paths), dimension ``step``;
+``interaction_step``
+    per-step curves of ``simulate(..., interaction=True)`` only, dimension ``step``;
 ``scalar``
     per-simulation scalars (surface statistics, final displacement), no dimension;
 ``contact``
@@ -61,14 +63,25 @@ __all__ = [
     "xr_variable",
 ]
 
-Table = Literal["step", "path_step", "scalar", "contact", "bem_step", "comparison"]
+Table = Literal[
+    "step", "path_step", "interaction_step", "scalar", "contact", "bem_step", "comparison"
+]
 
 #: The tables in the order their variables are listed.
-TABLES: tuple[Table, ...] = ("step", "path_step", "scalar", "contact", "bem_step", "comparison")
+TABLES: tuple[Table, ...] = (
+    "step",
+    "path_step",
+    "interaction_step",
+    "scalar",
+    "contact",
+    "bem_step",
+    "comparison",
+)
 
 _DIMS: dict[str, tuple[str, ...]] = {
     "step": ("step",),
     "path_step": ("step",),
+    "interaction_step": ("step",),
     "scalar": (),
     "contact": ("contact",),
     "bem_step": ("load",),
@@ -166,6 +179,8 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
             "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
             _F,
         ),
+    ],
+    "interaction_step": [
         (
             "coalesced_contact_length",
             "µm",
