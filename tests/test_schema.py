@@ -12,6 +12,7 @@ from splinecontact.compare import COLUMNS, compare_profiles
 from splinecontact.errors import ResultSchemaError
 from splinecontact.results import (
     CONTACT_VARIABLES,
+    INTERACTION_STEP_VARIABLES,
     PATH_STEP_VARIABLES,
     SCALAR_VARIABLES,
     STEP_VARIABLES,
@@ -57,7 +58,12 @@ def test_legacy_tables_are_views_of_the_registry() -> None:
 
 def test_result_fields_are_declared_for_every_schema_variable() -> None:
     declared = {f.name for f in dataclasses.fields(SimulationResult) if not f.init}
-    assert declared == {*STEP_VARIABLES, *PATH_STEP_VARIABLES, *SCALAR_VARIABLES}
+    assert declared == {
+        *STEP_VARIABLES,
+        *PATH_STEP_VARIABLES,
+        *INTERACTION_STEP_VARIABLES,
+        *SCALAR_VARIABLES,
+    }
 
 
 def _small_result(**kwargs):  # type: ignore[no-untyped-def]

@@ -40,6 +40,7 @@ if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the pac
 __all__ = [
     "COLUMNS",
     "COMPARE_MAX_ITERATIONS",
+    "INTERACTING_TRAVEL",
     "MAX_BISECTIONS",
     "MAX_CONTACT_FRACTION",
     "Comparison",
@@ -55,6 +56,10 @@ MAX_CONTACT_FRACTION = 0.9
 #: BEM iteration limit per solve [1] in a comparison (converged solves take tens to hundreds;
 #: a solve that has not converged by then is approached again in smaller load steps).
 COMPARE_MAX_ITERATIONS = 5000
+
+#: Interacting SAD runs this many times SAD's displacement (and steps), so that its forces,
+#: smaller at equal displacement, cover SAD's [1].
+INTERACTING_TRAVEL = 2
 
 #: Halvings of a load step tried when a BEM solve does not converge.
 MAX_BISECTIONS = 2
@@ -177,6 +182,7 @@ def compare_profiles(
     max_iterations: int = COMPARE_MAX_ITERATIONS,
     max_contact_fraction: float = MAX_CONTACT_FRACTION,
     progress: Callable[[str], None] | None = None,
+    interaction: bool = False,
 ) -> Comparison:
     """Run SAD and the exact BEM reference on the same smoothed geometry at matched forces.
 
@@ -209,6 +215,10 @@ def compare_profiles(
         near full contact (mean gap → 0) are not reported; a note says so.
     progress : callable, optional
         Called with one line of text before SAD and after each BEM force.
+    interaction : bool
+        Also run interacting SAD (``simulate(..., interaction=True)``) over
+        ``INTERACTING_TRAVEL`` × the displacement and report it at the same forces (the
+        ``int_*`` columns; NaN beyond its largest force). ``False`` leaves them NaN.
 
     Returns
     -------
@@ -257,6 +267,14 @@ def compare_profiles(
         alpha=alpha,
         x0=x0,
     )
+    coupled = None
+    if interaction:
+        say(f"interacting SAD: {INTERACTING_TRAVEL * steps} steps on {n} points")
+        travel = float(result.displacement[-1]) * INTERACTING_TRAVEL
+        coupled = simulate(
+            lower, upper, steps=INTERACTING_TRAVEL * steps, final_displacement=travel,
+            e_star=e_star, alpha=alpha, x0=x0, interaction=True, diagnostics=False,
+        )  # fmt: skip
     composite = fit_spline(lower, alpha=alpha, x0=x0).f
     if not isinstance(upper, str):
         composite = composite + fit_spline(upper, alpha=alpha, x0=x0).f
@@ -370,6 +388,8 @@ def compare_profiles(
             "ratio_approach": bem_approach / displacement,
             "ratio_contacts": bem_patches / n_contacts,
         }
+    columns.update(_interacting_columns(coupled, forces, bem_sub, bem_gap, bem_approach,
+                                        bem_patches))  # fmt: skip
     parameters: dict[str, Any] = {
         "e_star_GPa": float(e_star),
         "n_points": n,
@@ -385,6 +405,49 @@ def compare_profiles(
         "upper_source": "flat" if isinstance(upper, str) else str(upper.metadata.get("source")),
     }
     return Comparison(columns, parameters, tuple(notes))
+
+
+def _interacting_columns(
+    coupled: Any,
+    forces: NDArray[np.float64],
+    bem_sub: NDArray[np.float64],
+    bem_gap: NDArray[np.float64],
+    bem_approach: NDArray[np.float64],
+    bem_patches: NDArray[np.float64],
+) -> dict[str, NDArray[np.float64]]:
+    """The ``int_*`` columns: interacting SAD interpolated at the compared forces."""
+    names = ("int_displacement", "int_contact_length", "int_contact_area", "int_n_contacts",
+             "int_n_patches", "int_mean_separation")  # fmt: skip
+    if coupled is None:
+        values = {name: np.full(forces.size, np.nan) for name in names}
+    else:
+        curve = np.maximum.accumulate(np.asarray(coupled.normal_force, dtype=np.float64))
+        rising = np.concatenate([[True], np.diff(curve) > 0.0])
+        sources = (
+            coupled.displacement,
+            coupled.coalesced_contact_length,
+            coupled.contact_area,
+            coupled.n_contacts,
+            coupled.n_contact_patches,
+            coupled.mean_separation,
+        )
+        values = {
+            name: np.interp(
+                forces,
+                curve[rising],
+                np.asarray(source, dtype=np.float64)[rising],
+                right=np.nan,
+            )
+            for name, source in zip(names, sources, strict=True)
+        }
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {
+            **values,
+            "ratio_length_int": values["int_contact_length"] / bem_sub,
+            "mean_gap_error_int": values["int_mean_separation"] / bem_gap - 1.0,
+            "ratio_approach_int": bem_approach / values["int_displacement"],
+            "ratio_patches_int": bem_patches / values["int_n_patches"],
+        }
 
 
 def write_table(comparison: Comparison, path: Path) -> Path:

@@ -25,6 +25,7 @@ if TYPE_CHECKING:  # xarray is imported when a Dataset is made, not with the pac
 
 __all__ = [
     "CONTACT_VARIABLES",
+    "INTERACTION_STEP_VARIABLES",
     "PATH_STEP_VARIABLES",
     "SCALAR_VARIABLES",
     "STEP_VARIABLES",
@@ -41,6 +42,9 @@ STEP_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("step")
 #: Per-step variables written when present in the curves: ``tangential_displacement`` (every
 #: ``simulate`` result) and the load-path variables of ``simulate(..., path=...)``.
 PATH_STEP_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("path_step")
+
+#: Per-step variables of ``simulate(..., interaction=True)`` (written when present).
+INTERACTION_STEP_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("interaction_step")
 
 #: Per-simulation scalar variables: name -> (units, description).
 SCALAR_VARIABLES: dict[str, tuple[str, str]] = schema.legacy_table("scalar")
@@ -184,11 +188,15 @@ class SimulationResult:
     normal_force_tangential_part: _FLOAT = field(init=False)
     n_tilted_contacts: _COUNT = field(init=False)
     n_candidates: _COUNT = field(init=False)
-    # --- optional per-step curves (schema table "path_step") --------------------------------
+    # --- optional per-step curves (schema tables "path_step", "interaction_step") ------------
     tangential_displacement: _FLOAT | None = field(init=False, default=None)
     n_slipping: _COUNT | None = field(init=False, default=None)
     dissipated_work: _FLOAT | None = field(init=False, default=None)
     normal_force_target: _FLOAT | None = field(init=False, default=None)
+    coalesced_contact_length: _FLOAT | None = field(init=False, default=None)
+    n_contact_patches: _COUNT | None = field(init=False, default=None)
+    interaction_iterations: _COUNT | None = field(init=False, default=None)
+    reach_exceeded: _COUNT | None = field(init=False, default=None)
     # --- per-simulation scalars (schema table "scalar"), set from ``scalars`` ---------------
     final_displacement: float = field(init=False)
     ra_lower: float = field(init=False)
@@ -207,6 +215,7 @@ class SimulationResult:
         for source, names, required in (
             (self.curves, STEP_VARIABLES, True),
             (self.curves, PATH_STEP_VARIABLES, False),
+            (self.curves, INTERACTION_STEP_VARIABLES, False),
             (self.scalars, SCALAR_VARIABLES, True),
         ):
             for name in names:
@@ -259,7 +268,7 @@ class SimulationResult:
 
         steps = np.arange(self.n_steps + 1)
         data_vars: dict[str, Any] = {}
-        for name in (*STEP_VARIABLES, *PATH_STEP_VARIABLES):
+        for name in (*STEP_VARIABLES, *PATH_STEP_VARIABLES, *INTERACTION_STEP_VARIABLES):
             if name in self.curves:
                 data_vars[name] = schema.xr_variable(name, np.asarray(self.curves[name]))
         for name in SCALAR_VARIABLES:

@@ -15,6 +15,8 @@ Each variable belongs to one *table* (the object whose rows it describes):
 ``path_step``
     per-step curves present only in some runs (``tangential_displacement`` in every run of this
     version, the rest on load paths), dimension ``step``;
+``interaction_step``
+    per-step curves of ``simulate(..., interaction=True)`` only, dimension ``step``;
 ``scalar``
     per-simulation scalars (surface statistics, final displacement), no dimension;
 ``contact``
@@ -61,14 +63,25 @@ __all__ = [
     "xr_variable",
 ]
 
-Table = Literal["step", "path_step", "scalar", "contact", "bem_step", "comparison"]
+Table = Literal[
+    "step", "path_step", "interaction_step", "scalar", "contact", "bem_step", "comparison"
+]
 
 #: The tables in the order their variables are listed.
-TABLES: tuple[Table, ...] = ("step", "path_step", "scalar", "contact", "bem_step", "comparison")
+TABLES: tuple[Table, ...] = (
+    "step",
+    "path_step",
+    "interaction_step",
+    "scalar",
+    "contact",
+    "bem_step",
+    "comparison",
+)
 
 _DIMS: dict[str, tuple[str, ...]] = {
     "step": ("step",),
     "path_step": ("step",),
+    "interaction_step": ("step",),
     "scalar": (),
     "contact": ("contact",),
     "bem_step": ("load",),
@@ -167,6 +180,27 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
             _F,
         ),
     ],
+    "interaction_step": [
+        (
+            "coalesced_contact_length",
+            "µm",
+            "interacting contacts: length of the union of the contact intervals",
+            _F,
+        ),
+        (
+            "n_contact_patches",
+            "1",
+            "interacting contacts: connected pieces of the union of the contact intervals",
+            _I,
+        ),
+        ("interaction_iterations", "1", "interacting contacts: conjugate-gradient iterations", _I),
+        (
+            "reach_exceeded",
+            "1",
+            "interacting contacts: 1 where summits beyond the candidate set could touch",
+            _I,
+        ),
+    ],
     "scalar": [
         ("final_displacement", "µm", "displacement at the last step", _F),
         ("ra_lower", "µm", "R_A of the lower profile heights", _F),
@@ -228,6 +262,26 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
         ("mean_gap_error", "1", "sad_mean_separation / bem_mean_gap − 1", _F),
         ("ratio_approach", "1", "bem_approach / sad_displacement", _F),
         ("ratio_contacts", "1", "bem_n_patches / sad_n_contacts", _F),
+        (
+            "int_displacement",
+            "µm",
+            "interacting SAD: displacement δ_N at this force (interpolated between steps)",
+            _F,
+        ),
+        (
+            "int_contact_length",
+            "µm",
+            "interacting SAD: length of the union of the contact intervals",
+            _F,
+        ),
+        ("int_contact_area", "µm", "interacting SAD: A_S = Σ √(δ^eff_i R_eff,i)", _F),
+        ("int_n_contacts", "1", "interacting SAD: loaded contacts", _F),
+        ("int_n_patches", "1", "interacting SAD: connected contact patches", _F),
+        ("int_mean_separation", "µm", "interacting SAD: mean gap of the mean lines", _F),
+        ("ratio_length_int", "1", "int_contact_length / bem_contact_length_subgrid", _F),
+        ("mean_gap_error_int", "1", "int_mean_separation / bem_mean_gap − 1", _F),
+        ("ratio_approach_int", "1", "bem_approach / int_displacement", _F),
+        ("ratio_patches_int", "1", "bem_n_patches / int_n_patches", _F),
     ],
 }
 

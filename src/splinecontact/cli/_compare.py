@@ -101,6 +101,14 @@ def register(app: typer.Typer) -> None:
                 "(near full contact).",
             ),
         ] = 0.9,
+        interaction: Annotated[
+            bool,
+            typer.Option(
+                "--interaction/--no-interaction",
+                help="Also run interacting SAD (contacts coupled through the half-plane) and "
+                "report it against the exact solution (int_* columns).",
+            ),
+        ] = True,
         quiet: QuietOpt = False,
         overwrite: OverwriteOpt = False,
         *,
@@ -143,7 +151,7 @@ def register(app: typer.Typer) -> None:
             bodies.lower, bodies.upper, e_star=e_star, steps=steps,
             final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
             n_forces=forces, tol=tol, max_iterations=max_iterations,
-            max_contact_fraction=max_contact_fraction, progress=say,
+            max_contact_fraction=max_contact_fraction, progress=say, interaction=interaction,
         )  # fmt: skip
         comparison.parameters["lower"] = bodies.lower_spec
         comparison.parameters["upper"] = bodies.upper_spec
@@ -164,4 +172,12 @@ def register(app: typer.Typer) -> None:
             f"approach exact / SAD {comparison.median('ratio_approach'):.3g}, "
             f"patches / SAD contacts {comparison.median('ratio_contacts'):.3g}"
         )
+        if interaction:
+            typer.echo(
+                f"interacting SAD medians: contact length / exact "
+                f"{comparison.median('ratio_length_int'):.3g}, mean gap error "
+                f"{comparison.median('mean_gap_error_int'):+.3g}, approach exact / interacting "
+                f"{comparison.median('ratio_approach_int'):.3g}, patches / interacting patches "
+                f"{comparison.median('ratio_patches_int'):.3g}"
+            )
         typer.echo(f"wrote {table} and {picture}")

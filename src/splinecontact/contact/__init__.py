@@ -5,15 +5,17 @@
 * :mod:`.kernel` — the monotone normal loading loop;
 * :mod:`.segments`, :mod:`.path_kernel`, :mod:`.loadpath` — load paths (their description, the
   compiled step and the driver: normal and tangential, force control);
+* :mod:`.interaction` — accepted contacts coupled through the elastic half-plane
+  (``simulate(..., interaction=True)``);
 * :mod:`.simulation` — :func:`simulate` and its argument checks.
 """
 
 from __future__ import annotations
 
 from ..errors import ForceControlError, LoadPathError
-from . import adhesion, maugis_dugdale, plasticity
 from .adhesion import DMT, JKR
 from .geometry import ContactGeometry, contact_geometry
+from .interaction import InteractionSettings
 from .kernel import LoadingRun, run_loading
 from .laws import LAWS, ContactLaw, Hertz, make_law
 from .loadpath import run_path, simulate_path
@@ -34,16 +36,14 @@ __all__ = [
     "ElasticPlastic",
     "ForceControlError",
     "Hertz",
+    "InteractionSettings",
     "LoadPathError",
     "LoadingRun",
     "MaugisDugdale",
     "Segment",
-    "adhesion",
     "contact_geometry",
     "make_law",
-    "maugis_dugdale",
     "parse_path",
-    "plasticity",
     "run_loading",
     "run_path",
     "simulate",

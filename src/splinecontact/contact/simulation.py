@@ -14,6 +14,7 @@ from ..profile import Profile, surface_statistics
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
 from .geometry import check_bodies, check_positive, contact_geometry
+from .interaction import InteractionSettings
 from .kernel import run_loading
 from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
 
@@ -95,6 +96,7 @@ def simulate(
     max_steps: int = MAX_STEPS,
     diagnostics: bool = True,
     law: ContactLaw | None = None,
+    interaction: bool | InteractionSettings = False,
 ) -> SimulationResult:
     """Press two rough bodies (or a rough body and a rigid flat) together by SAD.
 
@@ -151,6 +153,13 @@ def simulate(
         or hardness [GPa]), or :func:`~splinecontact.contact.make_law` by name
         (``docs/contact-laws.md``; the Sec. 4 proposal). Their history (jump-in/out, the plastic
         residual interference) shows on a ``path`` that unloads.
+    interaction : bool or InteractionSettings, optional
+        ``False`` (default): the paper's independent contacts. ``True`` (or an
+        :class:`~splinecontact.contact.interaction.InteractionSettings`): the accepted contacts
+        interact through the elastic half-plane (:mod:`splinecontact.contact.interaction`,
+        ``docs/accuracy.md``); the curves gain ``coalesced_contact_length``,
+        ``n_contact_patches``, ``interaction_iterations`` and ``reach_exceeded``. Normal
+        loading with the Hertz law only (no ``path``, no other ``law``).
 
     Returns
     -------
@@ -172,6 +181,7 @@ def simulate(
     splinecontact.diagnostics.SimulationWarning
         A body dominated by tilt or form, a grid too coarse for the spline, or a final contact
         area near full contact (see :mod:`splinecontact.diagnostics`).
+
     Examples
     --------
     >>> import numpy as np
@@ -201,6 +211,8 @@ def simulate(
     check_positive("alpha", alpha, "")
     check_positive("x0", x0, " µm")
     law = Hertz() if law is None else check_law(law)
+    if interaction is not False:
+        settings = _interaction_settings(interaction, path, law)
     fits = None
     if getattr(law, "needs_radius", False):
         check_bodies(lower, upper)
@@ -220,6 +232,13 @@ def simulate(
 
     check_bodies(lower, upper)
     fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
+    if interaction is not False:
+        return _simulate_interacting(
+            lower, upper, (fit_l, fit_u), settings, record_steps, steps=steps,
+            final_displacement=final_displacement,
+            final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+            mu0=mu0, alpha=alpha, x0=x0, diagnostics=diagnostics,
+        )  # fmt: skip
     geometry = contact_geometry(
         lower, upper, steps=steps, final_displacement=final_displacement,
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
@@ -261,6 +280,77 @@ def _reach_radius(lower: Profile, fits: tuple[SplineFit, SplineFit | None]) -> f
         if convex.size:
             radii.append(1.0 / float(np.percentile(convex, 10.0)))
     return 2.0 * max(radii) if radii else 2.0 * float(lower.x[-1] - lower.x[0])
+
+
+def _interaction_settings(
+    interaction: object, path: object, law: ContactLaw
+) -> InteractionSettings:
+    """The settings of ``simulate(..., interaction=...)``, refused where not supported."""
+    if interaction is True:
+        settings = InteractionSettings()
+    elif isinstance(interaction, InteractionSettings):
+        settings = interaction
+    else:
+        raise ParameterError(
+            f"interaction = {interaction!r}; give True, False or an InteractionSettings"
+        )
+    if path is not None:
+        raise ParameterError(
+            "interaction=True runs a monotone normal loading; load paths (path=...) are not "
+            "supported with interacting contacts yet — drop path or interaction"
+        )
+    if not isinstance(law, Hertz):
+        raise ParameterError(
+            f"interaction=True couples Hertz contacts (eq. 10); the law {type(law).__name__} "
+            "is not supported with interacting contacts yet — use the default law"
+        )
+    return settings
+
+
+def _simulate_interacting(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    fits: tuple[SplineFit, SplineFit | None],
+    settings: InteractionSettings,
+    record_steps: NDArray[np.int64],
+    *,
+    steps: int,
+    final_displacement: float | None,
+    final_displacement_factor: float,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+    diagnostics: bool,
+) -> SimulationResult:
+    """``simulate`` with contacts coupled through the half-plane (units as there)."""
+    from .interaction import extended_geometry, interacting_loading
+
+    geometry = extended_geometry(
+        lower, upper, steps=steps, final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0, fits=fits,
+        reach_fraction=settings.reach_fraction,
+    )  # fmt: skip
+    curves, contacts = interacting_loading(
+        geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
+        settings=settings, record_steps=record_steps,
+    )  # fmt: skip
+    if diagnostics:
+        from ..diagnostics import warn_simulation
+
+        warn_simulation(lower, upper, curves, alpha=alpha, x0=x0)
+    extra = {
+        "interaction": "elastic half-plane",
+        "interaction_boundary": "periodic" if settings.periodic else "symmetry walls",
+        "interaction_tol": settings.tol,
+        "interaction_width": settings.width,
+    }
+    return build_result(
+        lower, upper, fits, curves, contacts, steps=steps,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0, extra=extra,
+    )  # fmt: skip
 
 
 def spline_fits(

@@ -63,14 +63,14 @@ def plot_path_history(result: SimulationResult, ax: Axes | None = None) -> Axes:
 def plot_study_vs_dimension(
     studies: dict[str, Any], name: str = "mu_s", ax: Axes | None = None
 ) -> Axes:
-    """Ensemble mean of a :func:`splinecontact.friction.friction_study` variable against D.
+    """Ensemble mean of a :func:`splinecontact.analysis.friction_study` variable against D.
 
     Parameters
     ----------
     studies : dict of str to xarray.Dataset
         Label (e.g. "rough-on-rough") -> result of ``friction_study``.
     name : str
-        Variable of ``STUDY_VARIABLES``; the band is its confidence interval.
+        Variable of ``FRICTION_STUDY_VARIABLES``; the band is its confidence interval.
     ax : matplotlib Axes, optional
         Axes to draw on.
     """

@@ -1,0 +1,583 @@
+"""Interacting SAD: accepted contacts coupled through the elastic half-plane.
+
+SAD (paper eq. 10) gives every accepted contact an independent Hertzian line-contact force
+F_i = (π/4) E* δ_i. In plane strain the surface displacement under a loaded contact decays only
+logarithmically, so every contact lowers all the others and the body as a whole. This module
+keeps SAD's geometry (eqs. 2–9: spline, spheres, detection, Table 1, eq. 9 acceptance, local
+normals, R_eff), SAD's local law and its tangential springs (eqs. 11–13), and adds the elastic
+coupling (the "interacting Hertzian asperities" of multi-asperity models: Ciavarella, Greenwood
+& Paggi, Wear 265 (2008) 729–734; Afferrante, Carbone & Demelio, Wear 278–279 (2012) 28–33).
+
+Model (rigid displacement δ_N prescribed at every step, as in SAD)
+-------------------------------------------------------------------
+* The elastic body is the profile's segment of length L between two frictionless symmetry walls
+  (equivalently: period L_p = 2L with the mirror image of every contact), the same boundary
+  conditions as the exact reference of ``splinecontact compare``; ``periodic=True`` uses period
+  L_p = L without images. Displacements have zero mean over the period, so the mean gap is the
+  rigid one and the mean-plane lift is carried by the forces (as in :mod:`splinecontact.bem`).
+* Periodic plane-strain Green function of a line load P (the kernel of :mod:`splinecontact.bem`
+  summed in closed form): u(x) = −(2P/(πE*)) ln|2 sin(πx/L_p)|.
+* Contact j carries the Hertzian pressure of half-width a_j, a_j² = δ_j^eff R_eff,j / 2
+  (R_eff = 2/(κ^u + κ^l) as in eq. 10, so a_j² = 4 P_j R/(πE*) with R = R_eff/2), and load
+  P_j = (π/4) E* δ_j^eff (SAD's eq. 10 law, unchanged) along its repulsive direction e_j.
+* Effective approach: δ_i^eff = δ_i − e_z,i w_i, with δ_i SAD's sphere overlap (eq. 10) and w_i
+  the vertical surface displacement at contact i caused by the vertical load components
+  e_z,j P_j of all other contacts and images, plus the part of contact i's own periodic Hertz
+  displacement that SAD's local law leaves out: c P_i (ln(L_p/(π a_i)) − 3/2), c = 2/(πE*)
+  (the periodic Hertz central displacement is c P (ln(L_p/(π a)) + 1/2); SAD's law supplies
+  2 c P of it). Interaction acts along the contact normals; tangential springs are unchanged.
+* Coupling between neighbours: the displacement field of contact j is averaged over contact i
+  with the flat-punch weight 1/(π√(a_i² − (x − x_i)²)), which is the first-order load change of a
+  Hertzian contact under an imposed surface displacement (reciprocal theorem; Barber, *Contact
+  Mechanics*, Springer 2018, §5.2). For a line load at distance ρ the average is closed form,
+  ln((|ρ| + √(ρ² − a_i²))/2) (ln(a_i/2) for |ρ| ≤ a_i), and the Hertz distribution of j is
+  integrated over by Gauss–Chebyshev quadrature; the pair coefficient is symmetrised.
+* Unilateral condition: P_i ≥ 0, δ_i^eff ≥ 0 wherever P_i > 0, and a contact whose effective
+  approach would be ≤ 0 carries nothing (a linear complementarity problem at frozen widths,
+  solved by the constrained conjugate gradients of Polonsky & Keer, Wear 231 (1999) 206–219,
+  at contact level; the widths a_i are updated in an outer fixed-point loop). Every step is
+  warm-started from the previous step's loads.
+* Coalescence: contacts whose Hertz intervals [x_i − a_i, x_i + a_i] overlap form one contact
+  patch. The contact length is the length of the union of the intervals (within the segment)
+  and ``n_patches`` counts its connected pieces, in the spirit of the equivalent-spot rule of
+  Afferrante et al. (2012) (conservation of the contact area); their mutual coupling is still
+  the punch-averaged Hertz field above (saturating at ln(a_i/2) inside an overlap).
+* Cost: the far field is a particle–mesh sum — loads spread to a coarse periodic mesh with
+  linear (cloud-in-cell) weights, convolved with the Green function by FFT, read back with the
+  same weights — and pairs closer than ``NEAR_CELLS`` mesh cells are corrected to the exact
+  coefficient. One operator application costs O(N + M log M + near pairs) for N contacts on
+  M cells, independent of the number of grid points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ParameterError
+from ..profile import Profile
+from ..results import ContactRecord
+from ..spline import SplineFit
+from .geometry import ContactGeometry, contact_geometry
+from .halfplane import (
+    NEAR_CELLS,
+    _Operator,
+    _pk_solve,
+    pair_coefficient,
+    periodic_green,
+    self_coefficient,
+)
+from .punch import _hertz_width, _Widths
+
+__all__ = [
+    "DEFAULT_INTERACTION_TOLERANCE",
+    "NEAR_CELLS",
+    "InteractionSettings",
+    "extended_geometry",
+    "interacting_loading",
+    "pair_coefficient",
+    "periodic_green",
+    "self_coefficient",
+]
+_QUARTER_PI = 0.25 * math.pi
+
+#: Default tolerance of the contact-level solve: largest complementarity violation / largest
+#: rigid overlap δ_i of the step [1].
+DEFAULT_INTERACTION_TOLERANCE = 1e-6
+
+#: Default reach of the candidate set beyond the final displacement, as a fraction of it [1].
+DEFAULT_REACH = 1.0
+
+#: Safety factor on the largest uplift of the surface (the most negative mesh displacement) of
+#: the previous step: summits whose rigid gap is below it are tested for contact [1].
+UPLIFT_FACTOR = 1.5
+
+#: Relative change of the contact widths and centres at which the outer loop stops [1]
+#: (widths enter the coupling through logarithms only).
+WIDTH_TOLERANCE = 1e-3
+
+
+@dataclass(frozen=True)
+class InteractionSettings:
+    """Options of the interacting solve.
+
+    Attributes
+    ----------
+    periodic : bool
+        False (default): the segment lies between two frictionless symmetry walls (period 2L with
+        mirror images, as ``splinecontact compare``); True: the profile is one period L.
+    tol : float
+        Largest complementarity violation / largest overlap of the step [1].
+    mesh_cells : int or None
+        Cells of the far-field mesh per period [1] (power of two); ``None`` chooses about
+        ``CELLS_PER_SOURCE`` cells per contact and image at every step (at least 64).
+    width : {"profile", "hertz"}
+        Contact half-widths from the local punch problem of the smoothed profile (default) or
+        from the Hertz relation a² = δ^eff R_eff/2 of the tip curvature (eq. 10).
+    reach_fraction : float
+        Candidates are the points whose gap closes by (1 + reach_fraction) × the final
+        displacement [1] (summits lifted by the surface's rise can touch).
+    width_iterations : int
+        Most width updates per step [1] (fewer once the widths change by less than
+        ``WIDTH_TOLERANCE``); 1 lets the widths lag one step behind the loads.
+    """
+
+    periodic: bool = False
+    tol: float = DEFAULT_INTERACTION_TOLERANCE
+    mesh_cells: int | None = None
+    width: str = "profile"
+    width_iterations: int = 1
+    reach_fraction: float = DEFAULT_REACH
+
+
+# --- the per-step geometric pass (SAD eqs. 7–10, Table 1, eq. 9) ----------------------------
+
+
+@numba.njit(cache=True, nogil=True)
+def _accept(
+    d: float,
+    delta_min: float,
+    uplift: NDArray[np.float64],
+    cell: float,
+    point_x: NDArray[np.float64],
+    n_active: int,
+    gap0: NDArray[np.float64],
+    kl: NDArray[np.float64],
+    ku: NDArray[np.float64],
+    mx: NDArray[np.float64],
+    mz: NDArray[np.float64],
+    nx: NDArray[np.float64],
+    nz: NDArray[np.float64],
+    dx: float,
+    out_index: NDArray[np.int64],
+    out_delta: NDArray[np.float64],
+    out_ex: NDArray[np.float64],
+    out_ez: NDArray[np.float64],
+    out_reff: NDArray[np.float64],
+    out_offset: NDArray[np.float64],
+    out_offset_z: NDArray[np.float64],
+) -> int:  # pragma: no cover - compiled
+    half_dx = 0.5 * dx
+    count = 0
+    for j in range(n_active):
+        k_l = kl[j]
+        k_u = ku[j]
+        k_sum = k_l + k_u
+        if k_sum <= 0.0:
+            continue
+        g = gap0[j] - d
+        m_x = mx[j]
+        m_z = mz[j]
+        n_x = nx[j]
+        n_z = nz[j]
+        k_prod = k_u * k_l
+        y_x = k_l * m_x + k_u * n_x
+        y_z = k_prod * g + k_l * m_z + k_u * n_z
+        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+        if y_norm <= 0.0:
+            continue
+        dmx = m_x - n_x
+        dmz = m_z - n_z
+        delta = (dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)) / (
+            y_norm + k_sum
+        )
+        if delta <= delta_min:
+            continue
+        if delta <= 0.0:
+            # an open summit can only touch where the surface has risen towards it: the mesh
+            # displacement of the previous step (smooth, so it underestimates the rise next to
+            # loaded contacts only where the surface is pushed down anyway)
+            t = point_x[j] / cell
+            i0 = math.floor(t)
+            frac = t - i0
+            cells = uplift.size
+            rise = -(uplift[i0 % cells] * (1.0 - frac) + uplift[(i0 + 1) % cells] * frac)
+            if delta <= -UPLIFT_FACTOR * rise:
+                continue
+        offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
+        if not (-half_dx <= offset < half_dx):
+            continue
+        out_index[count] = j
+        out_delta[count] = delta
+        out_ex[count] = y_x / y_norm
+        out_ez[count] = y_z / y_norm
+        out_reff[count] = 2.0 / k_sum
+        out_offset[count] = offset
+        out_offset_z[count] = (
+            2.0 * dmz + delta * (k_u * n_z - k_l * m_z) + g * k_u * (2.0 - k_l * delta)
+        ) / (2.0 * y_norm)
+        count += 1
+    return count
+
+
+def solve_contacts(
+    op: _Operator,
+    x: NDArray[np.float64],
+    delta: NDArray[np.float64],
+    ez: NDArray[np.float64],
+    reff: NDArray[np.float64],
+    initial: NDArray[np.float64],
+    b_start: NDArray[np.float64],
+    c_start: NDArray[np.float64],
+    e_star: float,
+    widths: _Widths,
+    tol: float,
+    outer: int = 1,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
+    """Loads P_i [mN/µm], half-widths and centre shifts [µm] of the contacts at one step.
+
+    The widths and centres are frozen in each constrained-CG solve. Contacts loaded at the
+    previous step start from their previous width and centre, new ones from the Hertz width of
+    SAD's independent force; after each solve the widths are updated from the loads, at most
+    ``outer`` times (1: widths lag one step behind the loads, which changes them by one step's
+    increment).
+    """
+    floor = widths.floor
+    load = initial.copy()
+    fresh = b_start <= 0.0
+    a = np.where(
+        fresh,
+        _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff, e_star, floor),
+        b_start,
+    )
+    c = np.where(fresh, 0.0, c_start)
+    total = 0
+    for _ in range(outer):
+        op.prepare(x + c, a, ez)
+        load, iterations = _pk_solve(op, delta, load, tol)
+        total += iterations
+        a_new, c_new = widths(load, reff, x, a, c, op)
+        if not np.any(load > 0) or np.all(
+            np.abs(a_new - a) + np.abs(c_new - c) <= WIDTH_TOLERANCE * np.maximum(a, floor)
+        ):
+            return load, a_new, c_new, total
+        a, c = a_new, c_new
+    return load, a, c, total
+
+
+def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
+    """Length of the union of intervals [lo, hi] and the number of its connected pieces."""
+    if lo.size == 0:
+        return 0.0, 0
+    order = np.argsort(lo, kind="stable")
+    lo = lo[order]
+    hi = hi[order]
+    reach = np.maximum.accumulate(hi)
+    new = np.empty(lo.size, dtype=bool)
+    new[0] = True
+    new[1:] = lo[1:] > reach[:-1]
+    starts = np.flatnonzero(new)
+    ends = np.append(starts[1:], lo.size) - 1
+    length = float(np.sum(reach[ends] - lo[starts]))
+    return length, int(starts.size)
+
+
+def extended_geometry(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    *,
+    steps: int,
+    final_displacement: float | None,
+    final_displacement_factor: float,
+    alpha: float,
+    x0: float,
+    fits: tuple[SplineFit, SplineFit | None] | None = None,
+    reach_fraction: float = DEFAULT_REACH,
+) -> ContactGeometry:
+    """SAD geometry whose candidate set reaches beyond the last displacement.
+
+    In the coupled body the surface between loaded contacts rises (the displacement has zero
+    mean), so summits whose rigid gap is still open can touch. The candidates are those whose gap
+    closes by (1 + ``reach_fraction``) × the final displacement; the displacement steps are
+    SAD's, δ_N = final · k / steps. Parameters as
+    :func:`splinecontact.contact.contact_geometry`; ``reach_fraction`` [1] ≥ 0.
+    """
+    if isinstance(reach_fraction, bool) or not (
+        isinstance(reach_fraction, (int, float))
+        and math.isfinite(reach_fraction)
+        and reach_fraction >= 0.0
+    ):
+        raise ParameterError(
+            f"reach_fraction must be a finite number ≥ 0 [1], got {reach_fraction!r}"
+        )
+    final = (
+        final_displacement_factor * lower.peak_to_valley
+        if final_displacement is None
+        else float(final_displacement)
+    )
+    return contact_geometry(
+        lower,
+        upper,
+        steps=steps,
+        final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor,
+        alpha=alpha,
+        x0=x0,
+        fits=fits,
+        reach=final * reach_fraction,
+    )
+
+
+def interacting_loading(
+    geometry: Any,
+    *,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    n_points: int,
+    settings: InteractionSettings = InteractionSettings(),
+    record_steps: NDArray[np.int64] | None = None,
+) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
+    """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
+
+    Parameters
+    ----------
+    geometry : ContactGeometry
+        From :func:`splinecontact.contact.contact_geometry` (candidates, curvatures, normals,
+        displacement steps).
+    e_star : float
+        Effective modulus E* [GPa].
+    g_star : float
+        Effective shear modulus G* [GPa] (tangential springs, eq. 11).
+    mu0 : float
+        Molecular friction coefficient μ0 [1] (eqs. 12–13).
+    n_points : int
+        Grid points of the profile [1] (the segment length is n_points·dx).
+    settings : InteractionSettings
+        Boundary conditions, tolerance and mesh.
+    record_steps : array of int, optional
+        Steps at which to keep the loaded contacts.
+
+    Returns
+    -------
+    (curves, contacts)
+        Per-step arrays (the keys of :func:`splinecontact.contact.run_loading` plus
+        ``coalesced_contact_length`` [µm], the union of the contact intervals,
+        ``n_contact_patches`` [1], its pieces, ``interaction_iterations`` [1] and
+        ``reach_exceeded`` [1]); the loaded contacts at the recorded steps (``overlap`` is the
+        effective approach δ^eff, ``normal_force`` the load P).
+    """
+    if not (isinstance(settings.tol, float) and 0.0 < settings.tol < 1.0):
+        raise ParameterError(f"interaction tol must be in (0, 1), got {settings.tol!r}")
+    dx = float(geometry.dx)
+    n = int(n_points)
+    period_nodes = n if settings.periodic else 2 * n
+    period = period_nodes * dx
+    cells = settings.mesh_cells
+    if cells is not None and (
+        isinstance(cells, bool) or not isinstance(cells, int) or cells < 8 or cells & (cells - 1)
+    ):
+        raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
+    op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
+    floor = 1e-6 * dx
+    if isinstance(settings.width_iterations, bool) or not (
+        isinstance(settings.width_iterations, int) and 1 <= settings.width_iterations <= 100
+    ):
+        raise ParameterError(
+            f"width_iterations must be an integer in 1…100, got {settings.width_iterations!r}"
+        )
+    if settings.width not in ("profile", "hertz"):
+        raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
+    slope = None
+    if settings.width == "profile":
+        # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
+        # gap′ = −f_l′ − f_u′ = n_x/n_z − m_x/m_z; NaN where the gap never closes
+        slope = np.full(n, np.nan)
+        slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
+            geometry.n_z
+        ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
+    widths = _Widths(slope, dx, e_star, floor)
+    displacement = np.asarray(geometry.displacement, dtype=np.float64)
+    n_steps = displacement.size
+    n_cand = geometry.gap0.size
+    record = np.zeros(n_steps, dtype=bool)
+    if record_steps is not None and len(record_steps):
+        record[np.asarray(record_steps)] = True
+    idx = np.empty(n_cand, dtype=np.int64)
+    delta = np.empty(n_cand)
+    ex = np.empty(n_cand)
+    ez = np.empty(n_cand)
+    reff = np.empty(n_cand)
+    offset = np.empty(n_cand)
+    offset_z = np.empty(n_cand)
+    load_all = np.zeros(n_cand)
+    older_all = np.zeros(n_cand)
+    last_j = np.zeros(0, dtype=np.int64)
+    last_increment = 0.0
+    tangential = np.zeros(n_cand)
+    width_all = np.zeros(n_cand)
+    shift_all = np.zeros(n_cand)
+    names = (
+        "normal_force",
+        "tangential_force",
+        "contact_area",
+        "normal_force_normal_part",
+        "normal_force_tangential_part",
+        "coalesced_contact_length",
+    )
+    curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
+    for k in (
+        "n_contacts",
+        "n_tilted_contacts",
+        "n_contact_patches",
+        "interaction_iterations",
+        "reach_exceeded",
+    ):
+        curves[k] = np.zeros(n_steps, dtype=np.int64)
+    contacts: list[ContactRecord] = []
+    length = n * dx
+    # candidates in order of closing; the reach of the candidate set is its largest gap
+    # candidates in order of their gap at δ_N = 0 (the order in which they can touch)
+    order = np.argsort(np.asarray(geometry.gap0), kind="stable")
+    gap0 = np.ascontiguousarray(np.asarray(geometry.gap0, dtype=np.float64)[order])
+    kl = np.ascontiguousarray(np.asarray(geometry.curvature_lower)[order])
+    ku = np.ascontiguousarray(np.asarray(geometry.curvature_upper)[order])
+    mx = np.ascontiguousarray(np.asarray(geometry.m_x)[order])
+    mz = np.ascontiguousarray(np.asarray(geometry.m_z)[order])
+    nx = np.ascontiguousarray(np.asarray(geometry.n_x)[order])
+    nz = np.ascontiguousarray(np.asarray(geometry.n_z)[order])
+    points = np.asarray(geometry.point)[order]
+    height_lower = np.asarray(geometry.height_lower)[order]
+    point_x = points.astype(np.float64) * dx
+    closing_gap = gap0
+    reach = float(closing_gap[-1]) if closing_gap.size else 0.0
+    margin = 0.0
+    field = np.zeros(1)
+    field_cell = period
+    for step in range(n_steps):
+        d = float(displacement[step])
+        increment = d - float(displacement[step - 1]) if step > 0 else 0.0
+        threshold = d + margin
+        if threshold > reach:
+            curves["reach_exceeded"][step] = 1
+        n_active = int(np.searchsorted(closing_gap, threshold, side="right"))
+        count = _accept(
+            d,
+            -margin,
+            field,
+            field_cell,
+            point_x,
+            n_active,
+            gap0,
+            kl,
+            ku,
+            mx,
+            mz,
+            nx,
+            nz,
+            dx,
+            idx,
+            delta,
+            ex,
+            ez,
+            reff,
+            offset,
+            offset_z,
+        )
+        j = idx[:count].copy()
+        previous = load_all[j]
+        older = older_all[j]
+        keep_tangential = tangential[j]
+        b_start = width_all[j]
+        c_start = shift_all[j]
+        # the state lives on the contacts of the last step only: clear it there
+        older_all[last_j] = 0.0
+        older_all[j] = previous
+        load_all[last_j] = 0.0
+        tangential[last_j] = 0.0
+        width_all[last_j] = 0.0
+        shift_all[last_j] = 0.0
+        last_j = j
+        if count == 0:
+            continue
+        x = point_x[j] + offset[:count]
+        # warm start: the loads of the last step, extrapolated along the path where known
+        ratio = increment / last_increment if last_increment > 0.0 else 0.0
+        guess = np.where(
+            (previous > 0.0) & (older > 0.0), previous + ratio * (previous - older), previous
+        )
+        last_increment = increment
+        # and the widths with them (a ∝ √P near a smooth summit)
+        grown = (previous > 0.0) & (guess > 0.0)
+        b_start = np.where(
+            grown,
+            b_start * np.sqrt(np.where(grown, guess, 1.0) / np.where(grown, previous, 1.0)),
+            b_start,
+        )
+        load, a, shift, iterations = solve_contacts(
+            op,
+            x,
+            delta[:count].copy(),
+            ez[:count].copy(),
+            reff[:count].copy(),
+            np.clip(guess, 0.0, None),
+            b_start,
+            c_start,
+            e_star,
+            widths,
+            settings.tol,
+            settings.width_iterations,
+        )
+        width_all[j] = np.where(load > 0.0, a, 0.0)
+        shift_all[j] = np.where(load > 0.0, shift, 0.0)
+        x = x + shift
+        curves["interaction_iterations"][step] = iterations
+        if np.any(load > 0.0):
+            op.displacement(load)
+            field = op.phi.copy()
+            field_cell = op.h
+            margin = UPLIFT_FACTOR * max(0.0, -float(field.min()))
+        on = load > 0.0
+        f_n = load
+        # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
+        f_t = np.where(previous > 0.0, keep_tangential - g_star * increment * ex[:count], 0.0)
+        cap = mu0 * f_n
+        f_t = np.clip(f_t, -cap, cap)
+        f_t[~on] = 0.0
+        load_all[j] = load
+        tangential[j] = f_t
+        e_x = ex[:count]
+        e_z = ez[:count]
+        fn_part = f_n * e_z
+        ft_part = -f_t * e_x
+        curves["normal_force_normal_part"][step] = fn_part[on].sum()
+        curves["normal_force_tangential_part"][step] = ft_part[on].sum()
+        curves["normal_force"][step] = (fn_part + ft_part)[on].sum()
+        curves["tangential_force"][step] = (f_n * e_x + f_t * e_z)[on].sum()
+        delta_eff = load / (_QUARTER_PI * e_star)
+        r = reff[:count]
+        curves["contact_area"][step] = np.sqrt(delta_eff[on] * r[on]).sum()
+        curves["n_contacts"][step] = int(on.sum())
+        curves["n_tilted_contacts"][step] = int(np.sum(on & (e_z < 0.0)))
+        half = a[on]
+        lo = np.clip(x[on] - half, 0.0, length)
+        hi = np.clip(x[on] + half, 0.0, length)
+        curves["coalesced_contact_length"][step], curves["n_contact_patches"][step] = _union_length(
+            lo, hi
+        )
+        if record[step]:
+            chosen = j[on]
+            contacts.append(
+                ContactRecord(
+                    step=int(step),
+                    point=points[chosen],
+                    x=x[on],
+                    z=height_lower[chosen] + offset_z[:count][on],
+                    overlap=delta_eff[on],
+                    effective_radius=r[on],
+                    normal_force=f_n[on],
+                    tangential_force=f_t[on],
+                    normal_x=e_x[on],
+                    normal_z=e_z[on],
+                )
+            )
+    curves["displacement"] = displacement
+    curves["tangential_displacement"] = np.zeros_like(displacement)
+    curves["mean_separation"] = geometry.mean_gap0 - displacement
+    curves["n_candidates"] = np.searchsorted(gap0, displacement, side="right").astype(np.int64)
+    return curves, tuple(contacts)
