@@ -190,49 +190,100 @@ def _md_of_t(
     return b, delta, force
 
 
+@numba.njit(cache=True, nogil=True)
+def _md_of_t_d(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float, float]:
+    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
+    # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
+    # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
+    # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
+    # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    h0 = w / sigma0
+    m = math.sqrt(1.0 + t * t)
+    log_m = 0.5 * math.log1p(t * t)
+    asinh_t = math.asinh(t)
+    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_b = a_k * (t * asinh_t - m * log_m)
+    root = math.sqrt(big_b * big_b + 4.0 * big_a * h0)
+    b = 2.0 * h0 / (big_b + root)
+    g = m * asinh_t - t * (2.5 + log_m)
+    delta = b * b / r + a_k * b * g
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    d_a = t * t / (m * r)
+    d_b = a_k * (asinh_t - t / m * log_m)
+    d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
+    d_g = t / m * asinh_t - 1.5 - log_m - t * t / (m * m)
+    d_delta = (2.0 * b / r + a_k * g) * d_bt + a_k * b * d_g
+    return b, delta, force, t * d_delta
+
+
 _LOG_T_MIN = math.log(1e-9)
 _LOG_T_MAX = math.log(1e9)
 
 
 @numba.njit(cache=True, nogil=True)
 def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
-    # (t_f, δ_f): the minimum of δ(t). A monotone (DMT-like) branch has it at the largest t
-    # searched (b → 0), where it meets the branch without contact.
-    n = 72
+    # (t_f, δ_f): the minimum of δ(t), where dδ/d ln t changes sign from − to + (δ falls then
+    # rises). The fold's t depends on Maugis' λ alone, t_f ≈ 2.03/λ for λ ≫ 1: the sign
+    # change is bracketed around that guess and found by Illinois on the analytic derivative.
+    # A monotone (DMT-like) branch, still falling at the largest t searched (b → 0), has it
+    # there, where it meets the branch without contact.
     lo = _LOG_T_MIN
     hi = _LOG_T_MAX
-    best = 0
-    best_d = 1e300
-    for i in range(n):
-        d = _md_of_t(math.exp(lo + (hi - lo) * i / (n - 1)), r_eff, e_star, w, sigma0)[1]
-        if d < best_d:
-            best_d = d
-            best = i
-    if best == n - 1:
-        return math.exp(hi), best_d
-    a = lo + (hi - lo) * max(best - 1, 0) / (n - 1)
-    c = lo + (hi - lo) * (best + 1) / (n - 1)
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    x1 = c - g * (c - a)
-    x2 = a + g * (c - a)
-    f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
-    f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+    lam = 2.0 * sigma0 * (0.5 * r_eff / (_PI * w * e_star * e_star)) ** (1.0 / 3.0)
+    centre = min(max(math.log(2.03 / lam), lo), hi)
+    width = 0.25
+    a = max(centre - width, lo)
+    fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
+    c = min(centre + width, hi)
+    fc = _md_of_t_d(math.exp(c), r_eff, e_star, w, sigma0)[3]
     for _ in range(100):
-        if f1 < f2:
-            c = x2
-            x2 = x1
-            f2 = f1
-            x1 = c - g * (c - a)
-            f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+        if fa < 0.0 and fc > 0.0:
+            break
+        width *= 4.0
+        if fa >= 0.0:  # the fold is left of a
+            if a <= lo:
+                t_lo = math.exp(lo)
+                return t_lo, _md_of_t(t_lo, r_eff, e_star, w, sigma0)[1]
+            c = a
+            fc = fa
+            a = max(centre - width, lo)
+            fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
+        else:  # fc ≤ 0: the fold is right of c
+            a = c
+            fa = fc
+            if a >= hi:
+                t_hi = math.exp(hi)
+                return t_hi, _md_of_t(t_hi, r_eff, e_star, w, sigma0)[1]
+            c = min(centre + width, hi)
+            fc = _md_of_t_d(math.exp(c), r_eff, e_star, w, sigma0)[3]
+    side = 0
+    x = 0.5 * (a + c)
+    for _ in range(200):
+        x = (a * fc - c * fa) / (fc - fa)
+        if not a < x < c:
+            x = 0.5 * (a + c)
+        f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)[3]
+        if f == 0.0:
+            break
+        if f < 0.0:
+            a = x
+            fa = f
+            if side == 1:
+                fc *= 0.5
+            side = 1
         else:
-            a = x1
-            x1 = x2
-            f1 = f2
-            x2 = a + g * (c - a)
-            f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+            c = x
+            fc = f
+            if side == -1:
+                fa *= 0.5
+            side = -1
         if c - a < 1e-12:
             break
-    t_f = math.exp(0.5 * (a + c))
+    t_f = math.exp(x)
     return t_f, _md_of_t(t_f, r_eff, e_star, w, sigma0)[1]
 
 
@@ -248,14 +299,40 @@ def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float
 def _md_contact_root(
     delta: float, t_f: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
 ) -> float:
-    # δ(t) decreases on (0, t_f]: Illinois (regula falsi) in x = ln t on a bracket with
-    # δ(lo) ≥ δ ≥ δ(hi), first tried tight around the previous step's t.
+    # δ(t) decreases on (0, t_f]: Newton from the previous step's t, else Illinois (regula
+    # falsi) in x = ln t on a bracket with δ(lo) ≥ δ ≥ δ(hi), grown around the last point.
     x_f = math.log(t_f)
     f_f = _md_of_t(t_f, r_eff, e_star, w, sigma0)[1] - delta
     if f_f >= 0.0:
         return t_f
+    # Cold (no previous t on this branch): start one e-fold left of the fold.
+    centre = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
+    if centre < x_f:
+        # Newton in ln t with the analytic derivative from the previous step's t: it converges
+        # in a few steps when δ moved little; anything unexpected (a step past the fold or out
+        # of the bracket it has seen, a non-negative slope) falls back to the search below.
+        x = centre
+        lo_n = -700.0
+        hi_n = x_f
+        for _ in range(12):
+            _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+            f = d - delta
+            if abs(f) <= 1e-14 * abs(delta):
+                return math.exp(x)
+            if f > 0.0:
+                lo_n = x
+            else:
+                hi_n = x
+            if not slope < 0.0:
+                break
+            x_new = x - f / slope
+            if not lo_n < x_new < hi_n or abs(x_new - x) > 2.0:
+                break
+            if abs(x_new - x) <= 1e-13:
+                return math.exp(x_new)
+            x = x_new
+        centre = x
     # Bracket grown geometrically around the previous step's t (or down from the fold).
-    centre = math.log(guess) if 0.0 < guess < t_f else x_f
     width = 0.02
     lo = centre - width
     f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
@@ -278,7 +355,7 @@ def _md_contact_root(
     side = 0
     x = lo
     for _ in range(300):
-        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
         if not lo < x < hi:
             x = 0.5 * (lo + hi)
         f = _md_of_t(math.exp(x), r_eff, e_star, w, sigma0)[1] - delta
