@@ -36,8 +36,9 @@ _PI = math.pi
 
 #: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
 #: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
-#: R_eff [µm], branch, t) that lets the commit of a step reuse its trial evaluation.
-N_STATE = 9
+#: R_eff [µm], branch, t, dδ/d ln t [µm]) that lets the commit of a step reuse its trial
+#: evaluation and the next one start Newton from a linear prediction.
+N_STATE = 10
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -234,7 +235,11 @@ def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[fl
     lo = _LOG_T_MIN
     hi = _LOG_T_MAX
     lam = 2.0 * sigma0 * (0.5 * r_eff / (_PI * w * e_star * e_star)) ** (1.0 / 3.0)
-    centre = min(max(math.log(2.03 / lam), lo), hi)
+    # t_f λ → 2.03 as λ → ∞ and diverges as λ falls to ≈ 0.47 (the fold disappears): a rough
+    # fit of the two ends, only the centre of the first bracket.
+    excess = lam - 0.47
+    guess = 2.03 / lam + (1.5 / (excess * excess) if excess > 0.05 else 600.0)
+    centre = min(max(math.log(guess), lo), hi)
     width = 0.25
     a = max(centre - width, lo)
     fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
@@ -266,8 +271,8 @@ def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[fl
         x = (a * fc - c * fa) / (fc - fa)
         if not a < x < c:
             x = 0.5 * (a + c)
-        f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)[3]
-        if f == 0.0:
+        _, d, _, f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        if abs(f) <= 1e-13 * abs(d):  # flat to rounding: δ is its minimum to ~1e-26 relative
             break
         if f < 0.0:
             a = x
@@ -297,85 +302,57 @@ def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float
 
 @numba.njit(cache=True, nogil=True)
 def _md_contact_root(
-    delta: float, t_f: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
-) -> float:
-    # δ(t) decreases on (0, t_f]: Newton from the previous step's t, else Illinois (regula
-    # falsi) in x = ln t on a bracket with δ(lo) ≥ δ ≥ δ(hi), grown around the last point.
+    delta: float,
+    t_f: float,
+    d_f: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    guess: float,
+    previous: float,
+) -> tuple[float, float]:
+    # δ(t) decreases on (0, t_f]: (t, dδ/d ln t) with δ(t) = δ, by Newton in x = ln t with the
+    # analytic derivative, safeguarded by the bracket lo < x < hi it has seen (δ − δ(lo) ≤ 0 ≤
+    # δ − δ(hi); hi starts at the fold): a step that leaves it, a non-negative slope (near the
+    # fold) or a step of more than 2 bisects or, with no lower end yet, moves 2 left.
+    # ``guess`` is the previous step's t or a point predicted from the last evaluation's tangent
+    # (``previous`` is then that prediction's length in ln t), 0 when cold.
     x_f = math.log(t_f)
-    f_f = _md_of_t(t_f, r_eff, e_star, w, sigma0)[1] - delta
+    f_f = d_f - delta
     if f_f >= 0.0:
-        return t_f
-    # Cold (no previous t on this branch): start one e-fold left of the fold.
-    centre = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
-    if centre < x_f:
-        # Newton in ln t with the analytic derivative from the previous step's t: it converges
-        # in a few steps when δ moved little; anything unexpected (a step past the fold or out
-        # of the bracket it has seen, a non-negative slope) falls back to the search below.
-        x = centre
-        lo_n = -700.0
-        hi_n = x_f
-        for _ in range(12):
-            _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
-            f = d - delta
-            if abs(f) <= 1e-14 * abs(delta):
-                return math.exp(x)
-            if f > 0.0:
-                lo_n = x
-            else:
-                hi_n = x
-            if not slope < 0.0:
-                break
-            x_new = x - f / slope
-            if not lo_n < x_new < hi_n or abs(x_new - x) > 2.0:
-                break
-            if abs(x_new - x) <= 1e-13:
-                return math.exp(x_new)
-            x = x_new
-        centre = x
-    # Bracket grown geometrically around the previous step's t (or down from the fold).
-    width = 0.02
-    lo = centre - width
-    f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
-    hi = min(centre + width, x_f)
-    f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
-    for _ in range(200):
-        if f_lo >= 0.0 and f_hi <= 0.0:
-            break
-        width *= 4.0
-        if f_lo < 0.0:  # the root is left of lo
-            hi = lo
-            f_hi = f_lo
-            lo = centre - width
-            f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
-        else:  # f_hi > 0: the root is right of hi (and left of the fold)
-            lo = hi
-            f_lo = f_hi
-            hi = min(centre + width, x_f)
-            f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
-    side = 0
-    x = lo
+        return t_f, 0.0
+    x = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
+    lo = -700.0
+    lo_known = False
+    hi = x_f
+    slope = 0.0
     for _ in range(300):
-        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
-        f = _md_of_t(math.exp(x), r_eff, e_star, w, sigma0)[1] - delta
+        _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        f = d - delta
         if abs(f) <= 1e-14 * abs(delta):
-            return math.exp(x)
+            return math.exp(x), slope
         if f > 0.0:
             lo = x
-            f_lo = f
-            if side == 1:
-                f_hi *= 0.5
-            side = 1
+            lo_known = True
         else:
             hi = x
-            f_hi = f
-            if side == -1:
-                f_lo *= 0.5
-            side = -1
         if hi - lo <= 1e-13:
-            break
-    return math.exp(x)
+            return math.exp(x), slope
+        x_new = x - f / slope if slope < 0.0 else x
+        step = abs(x_new - x)
+        if not (lo < x_new < hi and 0.0 < step <= 2.0):
+            x_new = 0.5 * (lo + hi) if lo_known else max(x, hi) - 2.0
+            previous = 1.0
+            x = x_new
+            continue
+        # Quadratic convergence: the next step would be ≈ step³/previous² (C = step/prev²);
+        # below 1e-14 the new point is converged and needs no evaluation of its own.
+        if step <= 1e-13 or (step < 1e-2 * previous and step**3 <= 1e-14 * previous**2):
+            return math.exp(x_new), slope
+        previous = step
+        x = x_new
+    return math.exp(x), slope
 
 
 @numba.njit(cache=True, nogil=True)
@@ -411,7 +388,8 @@ def md_evaluate(
         state[6] = r_eff
         state[7] = out[2]
         state[8] = out[3]
-    return out
+        state[9] = out[7]
+    return out[0], out[1], out[2], out[3], out[4], out[5], out[6]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -422,7 +400,7 @@ def _md_evaluate(
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[float, float, float, float, float, float, float]:
+) -> tuple[float, float, float, float, float, float, float, float]:
     """One Maugis–Dugdale contact under displacement control.
 
     Parameters
@@ -439,17 +417,27 @@ def _md_evaluate(
 
     Returns
     -------
-    (force, width, branch, t, r_cached, t_fold, delta_fold)
-        Force [mN/µm], width √2·b [µm], and the new state values.
+    (force, width, branch, t, r_cached, t_fold, delta_fold, slope)
+        Force [mN/µm], width √2·b [µm], the new state values and dδ/d ln t [µm] at t (0 when
+        not known).
     """
     if w == 0.0:
         if delta > 0.0:
-            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0, 0.0, 0.0, 0.0, 0.0
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return (
+                0.25 * _PI * e_star * delta,
+                math.sqrt(delta * r_eff),
+                2.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            )
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
-        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4]
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0
     if state[2] == r_eff and r_eff > 0.0:
         t_f = state[3]
         d_f = state[4]
@@ -464,15 +452,30 @@ def _md_evaluate(
     if not in_contact:
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
-            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f  # adhesive zone, gap at x = 0 open
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0  # adhesive zone, gap at x = 0 open
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0
     guess = state[1] if branch == 2.0 else 0.0
-    t = _md_contact_root(delta, t_f, r_eff, e_star, w, sigma0, guess)
+    previous = 1.0
+    if (
+        branch == 2.0
+        and state.size >= N_STATE
+        and state[7] == 2.0
+        and state[6] == r_eff
+        and state[8] > 0.0
+        and state[9] < 0.0
+    ):
+        # The last evaluation was on this contact branch: start from its tangent (a Newton
+        # step from a known point, so the root's convergence test can use its length).
+        step = (delta - state[5]) / state[9]
+        if abs(step) < 0.5:
+            guess = state[8] * math.exp(step)
+            previous = max(abs(step), 1e-300)
+    t, slope = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
