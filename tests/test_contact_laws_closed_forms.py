@@ -363,6 +363,45 @@ def test_green_critical_values() -> None:
     )
 
 
+def _hertz_line_axis_stresses(z: np.ndarray, nu: float) -> tuple[np.ndarray, ...]:
+    # McEwen (1949) plane-strain stresses under the Hertz line contact on the axis x = 0, in
+    # units of p0, depth z in units of b (Johnson, Contact Mechanics, eq. 4.49); no shear there.
+    s = np.sqrt(1.0 + z * z)
+    sx = -((1.0 + 2.0 * z * z) / s - 2.0 * z)
+    sz = -1.0 / s
+    return sx, nu * (sx + sz), sz
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.05, 0.1, 0.15, 0.18, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.49])
+def test_yield_onset_against_plane_strain_stress_field(nu: float) -> None:
+    """C(ν) is p0/S_y at first von Mises yield of the elastic Hertz line contact: the largest
+    von Mises stress on the axis (where it peaks) of the exact field, to 0.2 %."""
+    z = np.linspace(0.0, 3.0, 300001)
+    sx, sy, sz = _hertz_line_axis_stresses(z, nu)
+    von_mises = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2))
+    assert pl.critical_pressure_coefficient(nu) == pytest.approx(1.0 / von_mises.max(), rel=2e-3)
+
+
+def test_yield_onset_classical_cross_check() -> None:
+    """At ν = 0.3 the classical line-contact values (Johnson, Contact Mechanics, sec. 4.2):
+    Tresca τ_max = 0.30 p0 at z = 0.78 b, first yield at p0 = 3.3k = 1.67 Y; von Mises
+    p0 = 1.79 Y. Through the package's Hertz convention δ_c = 4R (p0c/E*)² the critical
+    interference for Y = 1 GPa, E* = 100 GPa, R = 1 µm is 4R (p0c/E*)² with the exact p0c."""
+    z = np.linspace(0.0, 3.0, 300001)
+    sx, sy, sz = _hertz_line_axis_stresses(z, 0.3)
+    tau = np.abs(sx - sz) / 2.0
+    assert tau.max() == pytest.approx(0.30, abs=5e-3)
+    assert z[tau.argmax()] == pytest.approx(0.78, abs=1e-2)
+    assert 1.0 / (2.0 * tau.max()) == pytest.approx(1.67, abs=5e-3)  # Tresca, Y = 2k
+    c = pl.critical_pressure_coefficient(0.3)
+    assert c == pytest.approx(1.79, abs=5e-3)  # von Mises
+    assert c > 1.0 / (2.0 * tau.max())  # von Mises yields later than Tresca
+    von_mises = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2))
+    p0c = 1.0 / von_mises.max()  # exact first yield [GPa] for Y = 1 GPa
+    d_c = pl.critical_interference(2.0, 100.0, 1.0, 0.3)  # R_eff = 2R = 2 µm
+    assert d_c == pytest.approx(4.0 * 1.0 * (p0c / 100.0) ** 2, rel=3e-3)
+
+
 def test_plastic_below_critical_is_hertz() -> None:
     d_c = pl.critical_interference(R_EFF, E_STAR, SY, NU)
     deltas = d_c * np.array([1e-6, 0.1, 0.5, 0.999999, 1.0])

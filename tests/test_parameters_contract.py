@@ -202,6 +202,9 @@ NOT_THE_MODEL_PARAMETER = {
     ("StudyLimits", "steps"): "a ceiling on steps, not the number of steps",
     ("friction_study", "n_points"): "the friction sweep's own small default profile",
     ("friction_study", "length"): "the friction sweep's own small default profile",
+    ("laws_study", "n_points"): "the contact-law sweep's own small default profile",
+    ("laws_study", "length"): "the contact-law sweep's own small default profile",
+    ("laws_study", "steps"): "steps of each branch of the contact-law cycle, not of a study",
 }
 
 

@@ -47,7 +47,9 @@ Modules
   dilatancy of a load-path result; :mod:`~splinecontact.analysis.friction_study` runs them over
   an ensemble against D.
 * :mod:`~splinecontact.analysis.laws` — pull-off force, work of separation, residual approach
-  and the energy of a load–unload cycle under an adhesive or elastic–plastic contact law.
+  and the energy of a load–unload cycle under an adhesive or elastic–plastic contact law;
+  :mod:`~splinecontact.analysis.laws_study` runs them, and κ of an adhesive pair, over an
+  ensemble against D.
 
 The statistical tests of the report of ``splinecontact reproduce`` (trend tests, bootstrap) are
 in :mod:`splinecontact.reproduce.statistics`.
@@ -91,17 +93,20 @@ from .friction import (
 )
 from .friction_study import FRICTION_STUDY_VARIABLES, friction_study
 from .hurst import measured_hurst, nominal_hurst, study_hurst
+from .laws_study import LAWS_STUDY_VARIABLES, adhesive_kappa, laws_study
 from .method import force_split
 from .stiffness import dimensionless_stiffness, mean_curve_stiffness, stiffness
 
 __all__ = [
     "BUSH_KAPPA",
     "FRICTION_STUDY_VARIABLES",
+    "LAWS_STUDY_VARIABLES",
     "PERSSON_KAPPA",
     "AnalysisError",
     "FrictionAnalysisError",
     "InterfaceStiffness",
     "StaticFriction",
+    "adhesive_kappa",
     "confidence_halfwidth",
     "dilatancy",
     "dimensionless_stiffness",
@@ -117,6 +122,7 @@ __all__ = [
     "interpolate_realizations",
     "kappa",
     "kappa_alternatives",
+    "laws_study",
     "linear_fit_through_origin",
     "mean_curve_stiffness",
     "measured_hurst",

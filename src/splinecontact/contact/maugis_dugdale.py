@@ -36,8 +36,9 @@ _PI = math.pi
 
 #: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
 #: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
-#: R_eff [µm], branch, t) that lets the commit of a step reuse its trial evaluation.
-N_STATE = 9
+#: R_eff [µm], branch, t, dδ/d ln t [µm]) that lets the commit of a step reuse its trial
+#: evaluation and the next one start Newton from a linear prediction.
+N_STATE = 10
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -190,49 +191,104 @@ def _md_of_t(
     return b, delta, force
 
 
+@numba.njit(cache=True, nogil=True)
+def _md_of_t_d(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float, float]:
+    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
+    # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
+    # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
+    # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
+    # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
+    r = 0.5 * r_eff
+    a_k = 4.0 * sigma0 / (_PI * e_star)
+    h0 = w / sigma0
+    m = math.sqrt(1.0 + t * t)
+    log_m = 0.5 * math.log1p(t * t)
+    asinh_t = math.asinh(t)
+    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_b = a_k * (t * asinh_t - m * log_m)
+    root = math.sqrt(big_b * big_b + 4.0 * big_a * h0)
+    b = 2.0 * h0 / (big_b + root)
+    g = m * asinh_t - t * (2.5 + log_m)
+    delta = b * b / r + a_k * b * g
+    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    d_a = t * t / (m * r)
+    d_b = a_k * (asinh_t - t / m * log_m)
+    d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
+    d_g = t / m * asinh_t - 1.5 - log_m - t * t / (m * m)
+    d_delta = (2.0 * b / r + a_k * g) * d_bt + a_k * b * d_g
+    return b, delta, force, t * d_delta
+
+
 _LOG_T_MIN = math.log(1e-9)
 _LOG_T_MAX = math.log(1e9)
 
 
 @numba.njit(cache=True, nogil=True)
 def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
-    # (t_f, δ_f): the minimum of δ(t). A monotone (DMT-like) branch has it at the largest t
-    # searched (b → 0), where it meets the branch without contact.
-    n = 72
+    # (t_f, δ_f): the minimum of δ(t), where dδ/d ln t changes sign from − to + (δ falls then
+    # rises). The fold's t depends on Maugis' λ alone, t_f ≈ 2.03/λ for λ ≫ 1: the sign
+    # change is bracketed around that guess and found by Illinois on the analytic derivative.
+    # A monotone (DMT-like) branch, still falling at the largest t searched (b → 0), has it
+    # there, where it meets the branch without contact.
     lo = _LOG_T_MIN
     hi = _LOG_T_MAX
-    best = 0
-    best_d = 1e300
-    for i in range(n):
-        d = _md_of_t(math.exp(lo + (hi - lo) * i / (n - 1)), r_eff, e_star, w, sigma0)[1]
-        if d < best_d:
-            best_d = d
-            best = i
-    if best == n - 1:
-        return math.exp(hi), best_d
-    a = lo + (hi - lo) * max(best - 1, 0) / (n - 1)
-    c = lo + (hi - lo) * (best + 1) / (n - 1)
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    x1 = c - g * (c - a)
-    x2 = a + g * (c - a)
-    f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
-    f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+    lam = 2.0 * sigma0 * (0.5 * r_eff / (_PI * w * e_star * e_star)) ** (1.0 / 3.0)
+    # t_f λ → 2.03 as λ → ∞ and diverges as λ falls to ≈ 0.47 (the fold disappears): a rough
+    # fit of the two ends, only the centre of the first bracket.
+    excess = lam - 0.47
+    guess = 2.03 / lam + (1.5 / (excess * excess) if excess > 0.05 else 600.0)
+    centre = min(max(math.log(guess), lo), hi)
+    width = 0.25
+    a = max(centre - width, lo)
+    fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
+    c = min(centre + width, hi)
+    fc = _md_of_t_d(math.exp(c), r_eff, e_star, w, sigma0)[3]
     for _ in range(100):
-        if f1 < f2:
-            c = x2
-            x2 = x1
-            f2 = f1
-            x1 = c - g * (c - a)
-            f1 = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+        if fa < 0.0 and fc > 0.0:
+            break
+        width *= 4.0
+        if fa >= 0.0:  # the fold is left of a
+            if a <= lo:
+                t_lo = math.exp(lo)
+                return t_lo, _md_of_t(t_lo, r_eff, e_star, w, sigma0)[1]
+            c = a
+            fc = fa
+            a = max(centre - width, lo)
+            fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
+        else:  # fc ≤ 0: the fold is right of c
+            a = c
+            fa = fc
+            if a >= hi:
+                t_hi = math.exp(hi)
+                return t_hi, _md_of_t(t_hi, r_eff, e_star, w, sigma0)[1]
+            c = min(centre + width, hi)
+            fc = _md_of_t_d(math.exp(c), r_eff, e_star, w, sigma0)[3]
+    side = 0
+    x = 0.5 * (a + c)
+    for _ in range(200):
+        x = (a * fc - c * fa) / (fc - fa)
+        if not a < x < c:
+            x = 0.5 * (a + c)
+        _, d, _, f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        if abs(f) <= 1e-13 * abs(d):  # flat to rounding: δ is its minimum to ~1e-26 relative
+            break
+        if f < 0.0:
+            a = x
+            fa = f
+            if side == 1:
+                fc *= 0.5
+            side = 1
         else:
-            a = x1
-            x1 = x2
-            f1 = f2
-            x2 = a + g * (c - a)
-            f2 = _md_of_t(math.exp(x2), r_eff, e_star, w, sigma0)[1]
+            c = x
+            fc = f
+            if side == -1:
+                fa *= 0.5
+            side = -1
         if c - a < 1e-12:
             break
-    t_f = math.exp(0.5 * (a + c))
+    t_f = math.exp(x)
     return t_f, _md_of_t(t_f, r_eff, e_star, w, sigma0)[1]
 
 
@@ -246,59 +302,57 @@ def md_fold(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float
 
 @numba.njit(cache=True, nogil=True)
 def _md_contact_root(
-    delta: float, t_f: float, r_eff: float, e_star: float, w: float, sigma0: float, guess: float
-) -> float:
-    # δ(t) decreases on (0, t_f]: Illinois (regula falsi) in x = ln t on a bracket with
-    # δ(lo) ≥ δ ≥ δ(hi), first tried tight around the previous step's t.
+    delta: float,
+    t_f: float,
+    d_f: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    guess: float,
+    previous: float,
+) -> tuple[float, float]:
+    # δ(t) decreases on (0, t_f]: (t, dδ/d ln t) with δ(t) = δ, by Newton in x = ln t with the
+    # analytic derivative, safeguarded by the bracket lo < x < hi it has seen (δ − δ(lo) ≤ 0 ≤
+    # δ − δ(hi); hi starts at the fold): a step that leaves it, a non-negative slope (near the
+    # fold) or a step of more than 2 bisects or, with no lower end yet, moves 2 left.
+    # ``guess`` is the previous step's t or a point predicted from the last evaluation's tangent
+    # (``previous`` is then that prediction's length in ln t), 0 when cold.
     x_f = math.log(t_f)
-    f_f = _md_of_t(t_f, r_eff, e_star, w, sigma0)[1] - delta
+    f_f = d_f - delta
     if f_f >= 0.0:
-        return t_f
-    # Bracket grown geometrically around the previous step's t (or down from the fold).
-    centre = math.log(guess) if 0.0 < guess < t_f else x_f
-    width = 0.02
-    lo = centre - width
-    f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
-    hi = min(centre + width, x_f)
-    f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
-    for _ in range(200):
-        if f_lo >= 0.0 and f_hi <= 0.0:
-            break
-        width *= 4.0
-        if f_lo < 0.0:  # the root is left of lo
-            hi = lo
-            f_hi = f_lo
-            lo = centre - width
-            f_lo = _md_of_t(math.exp(lo), r_eff, e_star, w, sigma0)[1] - delta
-        else:  # f_hi > 0: the root is right of hi (and left of the fold)
-            lo = hi
-            f_lo = f_hi
-            hi = min(centre + width, x_f)
-            f_hi = _md_of_t(math.exp(hi), r_eff, e_star, w, sigma0)[1] - delta if hi < x_f else f_f
-    side = 0
-    x = lo
+        return t_f, 0.0
+    x = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
+    lo = -700.0
+    lo_known = False
+    hi = x_f
+    slope = 0.0
     for _ in range(300):
-        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
-        f = _md_of_t(math.exp(x), r_eff, e_star, w, sigma0)[1] - delta
+        _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        f = d - delta
         if abs(f) <= 1e-14 * abs(delta):
-            return math.exp(x)
+            return math.exp(x), slope
         if f > 0.0:
             lo = x
-            f_lo = f
-            if side == 1:
-                f_hi *= 0.5
-            side = 1
+            lo_known = True
         else:
             hi = x
-            f_hi = f
-            if side == -1:
-                f_lo *= 0.5
-            side = -1
         if hi - lo <= 1e-13:
-            break
-    return math.exp(x)
+            return math.exp(x), slope
+        x_new = x - f / slope if slope < 0.0 else x
+        step = abs(x_new - x)
+        if not (lo < x_new < hi and 0.0 < step <= 2.0):
+            x_new = 0.5 * (lo + hi) if lo_known else max(x, hi) - 2.0
+            previous = 1.0
+            x = x_new
+            continue
+        # Quadratic convergence: the next step would be ≈ step³/previous² (C = step/prev²);
+        # below 1e-14 the new point is converged and needs no evaluation of its own.
+        if step <= 1e-13 or (step < 1e-2 * previous and step**3 <= 1e-14 * previous**2):
+            return math.exp(x_new), slope
+        previous = step
+        x = x_new
+    return math.exp(x), slope
 
 
 @numba.njit(cache=True, nogil=True)
@@ -334,7 +388,8 @@ def md_evaluate(
         state[6] = r_eff
         state[7] = out[2]
         state[8] = out[3]
-    return out
+        state[9] = out[7]
+    return out[0], out[1], out[2], out[3], out[4], out[5], out[6]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -345,7 +400,7 @@ def _md_evaluate(
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[float, float, float, float, float, float, float]:
+) -> tuple[float, float, float, float, float, float, float, float]:
     """One Maugis–Dugdale contact under displacement control.
 
     Parameters
@@ -362,17 +417,27 @@ def _md_evaluate(
 
     Returns
     -------
-    (force, width, branch, t, r_cached, t_fold, delta_fold)
-        Force [mN/µm], width √2·b [µm], and the new state values.
+    (force, width, branch, t, r_cached, t_fold, delta_fold, slope)
+        Force [mN/µm], width √2·b [µm], the new state values and dδ/d ln t [µm] at t (0 when
+        not known).
     """
     if w == 0.0:
         if delta > 0.0:
-            return 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff), 2.0, 0.0, 0.0, 0.0, 0.0
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return (
+                0.25 * _PI * e_star * delta,
+                math.sqrt(delta * r_eff),
+                2.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            )
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
-        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4]
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0
     if state[2] == r_eff and r_eff > 0.0:
         t_f = state[3]
         d_f = state[4]
@@ -387,15 +452,30 @@ def _md_evaluate(
     if not in_contact:
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
-            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f  # adhesive zone, gap at x = 0 open
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0  # adhesive zone, gap at x = 0 open
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0
     guess = state[1] if branch == 2.0 else 0.0
-    t = _md_contact_root(delta, t_f, r_eff, e_star, w, sigma0, guess)
+    previous = 1.0
+    if (
+        branch == 2.0
+        and state.size >= N_STATE
+        and state[7] == 2.0
+        and state[6] == r_eff
+        and state[8] > 0.0
+        and state[9] < 0.0
+    ):
+        # The last evaluation was on this contact branch: start from its tangent (a Newton
+        # step from a known point, so the root's convergence test can use its length).
+        step = (delta - state[5]) / state[9]
+        if abs(step) < 0.5:
+            guess = state[8] * math.exp(step)
+            previous = max(abs(step), 1e-300)
+    t, slope = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:

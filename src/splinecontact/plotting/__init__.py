@@ -5,7 +5,8 @@ Two kinds of figures, in separate modules:
 - **study figures drawn from datasets** — Figs. 10, 11, 12 and the force-split diagnostics
   from a study Dataset (:func:`study_figures`), the four curves of one ``simulate`` result
   (:func:`result_figures`), and the friction figures (:func:`plot_friction_loop`,
-  :func:`plot_path_history`, :func:`plot_study_vs_dimension`);
+  :func:`plot_path_history`, :func:`plot_study_vs_dimension`), and the contact-law study
+  figure (:func:`plot_laws_study`);
 - **illustrative figures drawn from profiles passed in** — Figs. 3a, 4, 5, 8 and 9
   (:func:`plot_profiles`, :func:`plot_spline_fits`, :func:`plot_spheres`,
   :func:`plot_first_contact`, :func:`plot_contact_zoom`; all five at once from an
@@ -28,6 +29,7 @@ from ._base import decimate, dimension_colors, new_axes, save_figure, write_figu
 from ._figures import FIGURE_FILES, build_figures, make_figures
 from ._friction import plot_friction_loop, plot_path_history, plot_study_vs_dimension
 from ._illustrative import IllustrativeInputs, illustrative_figures, make_illustrative_figures
+from ._laws import LAWS_STUDY_LABELS, plot_laws_study
 from ._profiles import (
     plot_contact_zoom,
     plot_first_contact,
@@ -50,6 +52,7 @@ from ._study import (
 
 __all__ = [
     "FIGURE_FILES",
+    "LAWS_STUDY_LABELS",
     "RESULT_FIGURES",
     "IllustrativeInputs",
     "build_figures",
@@ -69,6 +72,7 @@ __all__ = [
     "plot_force_split",
     "plot_friction_loop",
     "plot_kappa_hurst",
+    "plot_laws_study",
     "plot_path_history",
     "plot_profiles",
     "plot_separation_force",
