@@ -106,9 +106,10 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--interaction/--no-interaction",
                 help="Also run interacting SAD (contacts coupled through the half-plane) and "
-                "report it against the exact solution (int_* columns).",
+                "report it against the exact solution (int_* columns). Can take minutes on "
+                "measured profiles with many contacts (docs/accuracy.md).",
             ),
-        ] = True,
+        ] = False,
         quiet: QuietOpt = False,
         overwrite: OverwriteOpt = False,
         *,
