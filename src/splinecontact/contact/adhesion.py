@@ -326,22 +326,11 @@ def dmt_pull_off_force(r_eff: float, w: float, sigma0: float) -> float:
 
 
 @dataclass(frozen=True)
-class DMT:
-    """2D DMT line contact (Hertzian deformation plus Dugdale attraction outside it).
-
-    Parameters
-    ----------
-    work_of_adhesion : float
-        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
-    cohesive_stress : float
-        Dugdale stress σ0 [GPa] (> 0); the range is h0 = w/σ0.
+class CohesiveZoneLaw:
+    """Parameters and bookkeeping shared by the laws with a Dugdale cohesive zone (:class:`DMT`,
+    :class:`~splinecontact.contact.maugis_dugdale.MaugisDugdale`): work of adhesion w [J/m²],
+    Dugdale stress σ0 [GPa] and the reach bound for a given E* and R_eff.
     """
-
-    code: ClassVar[int] = 2
-    name: ClassVar[str] = "dmt"
-    n_state: ClassVar[int] = 0
-    #: The reach h0 does not depend on R_eff.
-    needs_radius: ClassVar[bool] = False
 
     work_of_adhesion: float = 0.1
     cohesive_stress: float = 1.0
@@ -387,6 +376,29 @@ class DMT:
     def bind(self, e_star: float, r_eff_max: float) -> Self:
         """This law with its reach for E* [GPa] and R_eff ≤ ``r_eff_max`` [µm]."""
         return replace(self, reach_bound=self.reach_for(e_star, r_eff_max))
+
+    def reach_for(self, e_star: float, r_eff_max: float) -> float:  # pragma: no cover - abstract
+        """Largest gap [µm] at which the law attracts (each law's own)."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class DMT(CohesiveZoneLaw):
+    """2D DMT line contact (Hertzian deformation plus Dugdale attraction outside it).
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Work of adhesion w [J/m²] (≥ 0; 0 gives Hertz exactly).
+    cohesive_stress : float
+        Dugdale stress σ0 [GPa] (> 0); the range is h0 = w/σ0.
+    """
+
+    code: ClassVar[int] = 2
+    name: ClassVar[str] = "dmt"
+    n_state: ClassVar[int] = 0
+    #: The reach h0 does not depend on R_eff.
+    needs_radius: ClassVar[bool] = False
 
     def reach_for(self, e_star: float, r_eff_max: float) -> float:
         """Largest gap [µm] at which the law attracts: h0."""

@@ -20,8 +20,8 @@ Acceptance at step k: the gap has closed (g ≤ 0, detection), Table 1 (which in
 κ^u + κ^l > 0: convex–convex, or convex–concave with the convex sphere the smaller), the centre
 lies in the point's own cell (eq. 9, x_c − x_i ∈ [−dx/2, dx/2)), and δ > 0.
 
-The local contact law (:mod:`splinecontact.contact.laws`) turns δ and R_eff into a force; the kernels
-(:mod:`.kernel`, :mod:`.path_kernel`) call :func:`sphere_contact` for every visited point.
+The local contact law (:mod:`splinecontact.contact.laws`) turns δ and R_eff into a force; the
+kernels (:mod:`.kernel`, :mod:`.path_kernel`) call :func:`sphere_contact` for every visited point.
 
 Cost: only points whose gap ever closes are visited; they are sorted by the step at which they
 close, so step k visits exactly the c_k candidates of that step (Σ_k c_k in total).

@@ -210,3 +210,24 @@ def window(x: NDArray[np.float64], xlim: tuple[float, float] | None) -> NDArray[
     if xlim is None:
         return np.ones(x.shape, dtype=bool)
     return np.asarray((x >= xlim[0]) & (x <= xlim[1]))
+
+
+def draw_ensemble_vs_dimension(ax: Axes, studies: dict[str, Any], name: str) -> tuple[str, float]:
+    """Draw the ensemble mean of variable ``name`` against D with its confidence band, one curve
+    per study (datasets with ``dimension``, ``<name>_mean`` and ``<name>_ci``).
+
+    Returns
+    -------
+    (units, level)
+        The variable's units and the confidence level [1] of the band (0.95 without studies).
+    """
+    units, level = "", 0.95
+    for label, ds in studies.items():
+        d = ds["dimension"].values
+        mean = ds[f"{name}_mean"].values
+        ci = ds[f"{name}_ci"].values
+        (line,) = ax.plot(d, mean, "o-", label=label)
+        ax.fill_between(d, mean - ci, mean + ci, color=line.get_color(), alpha=0.2, lw=0)
+        units = ds[name].attrs.get("units", "")
+        level = float(ds.attrs.get("confidence", 0.95))
+    return units, level

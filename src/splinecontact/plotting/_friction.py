@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..results import SimulationResult
-from ._base import new_axes
+from ._base import draw_ensemble_vs_dimension, new_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -75,15 +75,7 @@ def plot_study_vs_dimension(
         Axes to draw on.
     """
     ax = new_axes(ax)
-    units = ""
-    for label, ds in studies.items():
-        d = ds["dimension"].values
-        mean = ds[f"{name}_mean"].values
-        ci = ds[f"{name}_ci"].values
-        (line,) = ax.plot(d, mean, "o-", label=label)
-        ax.fill_between(d, mean - ci, mean + ci, color=line.get_color(), alpha=0.2, lw=0)
-        units = ds[name].attrs.get("units", "")
-        level = ds.attrs.get("confidence", 0.95)
+    units, level = draw_ensemble_vs_dimension(ax, studies, name)
     ax.set_xlabel("fractal dimension D [1]")
     ax.set_ylabel(f"{name} [{units}]  (band: {level:.0%} CI of the mean)")
     ax.legend()

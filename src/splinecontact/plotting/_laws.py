@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ParameterError
-from ._base import new_axes
+from ._base import draw_ensemble_vs_dimension, new_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -47,16 +47,7 @@ def plot_laws_study(
             f"{name!r} is not a laws_study variable; give one of {sorted(LAWS_STUDY_LABELS)}"
         )
     ax = new_axes(ax)
-    units = ""
-    level = 0.95
-    for label, ds in studies.items():
-        d = ds["dimension"].values
-        mean = ds[f"{name}_mean"].values
-        ci = ds[f"{name}_ci"].values
-        (line,) = ax.plot(d, mean, "o-", label=label)
-        ax.fill_between(d, mean - ci, mean + ci, color=line.get_color(), alpha=0.2, lw=0)
-        units = ds[name].attrs.get("units", "")
-        level = float(ds.attrs.get("confidence", 0.95))
+    units, level = draw_ensemble_vs_dimension(ax, studies, name)
     ax.set_xlabel("fractal dimension D [1]")
     ax.set_ylabel(f"{LAWS_STUDY_LABELS[name]} [{units}]")
     ax.set_title(f"band: {level:.0%} confidence interval of the mean", fontsize="small")
