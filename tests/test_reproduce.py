@@ -404,3 +404,25 @@ def test_reproduce_refuses_a_user_folder(tmp_path: Path, monkeypatch: pytest.Mon
             assert result.exit_code == 1, result.output
             assert "Traceback" not in result.output
             assert _snapshot(user) == before
+
+
+def test_reproduce_study_with_progress_draws_a_bar_and_prints_the_summary(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``reproduce(progress=True)`` (the CLI's default) supplies the bar: the runner prints
+    nothing and refuses ``progress=True`` itself."""
+    from splinecontact.reproduce.run import _run_reproduce_study
+    from splinecontact.study import open_study, parse_study
+
+    config = parse_study(
+        {
+            "study": {"name": "tiny", "seed": 1, "realizations": 2},
+            "fixed": {"n_points": 2048, "length": 10.0, "steps": 20},
+            "sweep": {"dimension": [1.3, 1.7]},
+        }
+    )
+    store = tmp_path / "tiny.zarr"
+    _run_reproduce_study(config, store, workers=1, progress=True, overwrite=False)
+    assert dict(open_study(store).sizes)["realization"] == 2
+    out = " ".join(capsys.readouterr().out.split())
+    assert "study complete: 4 ok, 0 failed, 0 not run, of 4 realizations" in out

@@ -155,6 +155,27 @@ def _prepare_reproduce_folder(out: Path, study_toml: str, *, overwrite: bool) ->
     return prepare_output_folder(out, overwrite=overwrite, command="reproduce")
 
 
+def _run_reproduce_study(
+    config: Any, store: Path, *, workers: int | None, progress: bool, overwrite: bool
+) -> None:
+    """Run the embedded study; with ``progress``, a progress bar and the summary on the terminal
+    (the study runner itself prints nothing)."""
+    from ..errors import StudyExecutionError
+    from ..study import StudyProgressBar, print_summary, run_study
+
+    if not progress:
+        run_study(config, store, workers=workers, overwrite=overwrite)
+        return
+    with StudyProgressBar() as bar:
+        try:
+            summary = run_study(config, store, workers=workers, progress=bar, overwrite=overwrite)
+        except StudyExecutionError as exc:
+            if exc.summary is not None:
+                print_summary(exc.summary)
+            raise
+    print_summary(summary)
+
+
 def reproduce(
     out_dir: str | Path,
     *,
@@ -196,7 +217,7 @@ def reproduce(
     ReproduceResult
     """
     from ..plotting import write_figures
-    from ..study import open_study, parse_study, run_study
+    from ..study import open_study, parse_study
     from .figures import draw_figures
 
     t0 = time.perf_counter()
@@ -209,7 +230,7 @@ def reproduce(
         tmp.write_text(study_toml, encoding="utf-8")
     store = out / "study.zarr"
     t1 = time.perf_counter()
-    run_study(config, store, workers=workers, progress=progress, overwrite=overwrite)
+    _run_reproduce_study(config, store, workers=workers, progress=progress, overwrite=overwrite)
     study_time = time.perf_counter() - t1
     ds = open_study(store)
     t2 = time.perf_counter()
