@@ -1,9 +1,9 @@
 """Adhesion and plasticity of rough pairs against D over an ensemble, with confidence bands.
 
 :func:`laws_study` runs one load–unload cycle per realization under a contact law and reads it
-with :mod:`.laws` (pull-off force, work of separation, residual approach, dissipated energy)
-and with the κ of eq. 15 generalized to an adhesive pair (:func:`adhesive_kappa`). Energies are
-per unit thickness [mN·µm/µm].
+with :mod:`splinecontact.analysis.laws` (pull-off force, work of separation, residual approach,
+dissipated energy) and with the κ of eq. 15 generalized to an adhesive pair
+(:func:`adhesive_kappa`). Energies are per unit thickness [mN·µm/µm].
 """
 
 from __future__ import annotations

@@ -43,6 +43,7 @@ __all__ = [
     "DMT",
     "JKR",
     "MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE",
+    "CohesiveZoneLaw",
     "dmt_evaluate",
     "dmt_pull_off_force",
     "jkr_approach",
