@@ -50,6 +50,7 @@ __all__ = [
     "check_positive",
     "contact_centre_height",
     "contact_geometry",
+    "order_candidates",
     "sphere_contact",
 ]
 
@@ -254,7 +255,6 @@ def contact_geometry(
         fit_l, fit_u = fit_spline_pair(lower, None if flat else upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
         fit_l, fit_u = fits
-    r_min = 0.5 * lower.dx
     f_l = fit_l.f
     if final_displacement is None:
         check_positive("final_displacement_factor", final_displacement_factor, "")
@@ -280,27 +280,59 @@ def contact_geometry(
     gap_c, candidates, mean_gap0 = _place_bodies(
         f_l, f_l if fit_u is None else fit_u.f, fit_u is None, float(displacement[-1]) + reach
     )
+    slope_u = None if fit_u is None else fit_u.slope[candidates]
+    second_u = None if fit_u is None else fit_u.second_derivative[candidates]
+    return order_candidates(
+        gap_c, candidates, float(mean_gap0), displacement, reach, x=lower.x[candidates],
+        height_lower=f_l[candidates], slope_lower=fit_l.slope[candidates],
+        second_lower=fit_l.second_derivative[candidates], slope_upper=slope_u,
+        second_upper=second_u, dx=lower.dx,
+    )  # fmt: skip
+
+
+def order_candidates(
+    gap_c: NDArray[np.float64],
+    candidates: NDArray[np.int64],
+    mean_gap0: float,
+    displacement: NDArray[np.float64],
+    reach: float,
+    *,
+    x: NDArray[np.float64],
+    height_lower: NDArray[np.float64],
+    slope_lower: NDArray[np.float64],
+    second_lower: NDArray[np.float64],
+    slope_upper: NDArray[np.float64] | None,
+    second_upper: NDArray[np.float64] | None,
+    dx: float,
+) -> ContactGeometry:
+    """Order the candidates by the step at which they close; their spheres (eqs. 4–6).
+
+    Every array but ``displacement`` [µm] is given at the candidates, in the order of
+    ``candidates`` (grid indices): gaps at δ_N = 0 and positions and heights h^l [µm], spline
+    slopes [1] and second derivatives [1/µm] (``None`` for a flat upper body). ``reach`` [µm]
+    as in :func:`contact_geometry`, ``dx`` the grid spacing [µm].
+    """
+    steps = displacement.size - 1
     closing = np.searchsorted(displacement, gap_c - reach, side="left")
     order_in = np.argsort(closing, kind="stable")
     order = candidates[order_in]
     counts = np.bincount(closing[order_in], minlength=steps + 1)
     active = np.cumsum(counts).astype(np.int64)
+    r_min = 0.5 * dx
 
-    kappa_l, n_x, n_z = own_frame_geometry(
-        fit_l.slope[order], fit_l.second_derivative[order], r_min
-    )
-    if fit_u is None:
+    kappa_l, n_x, n_z = own_frame_geometry(slope_lower[order_in], second_lower[order_in], r_min)
+    if slope_upper is None or second_upper is None:
         slope_u_c = np.zeros(order.size)
         kappa_u = np.zeros(order.size)
     else:
-        slope_u_c = fit_u.slope[order]
-        kappa_u, _, _ = own_frame_geometry(slope_u_c, fit_u.second_derivative[order], r_min)
+        slope_u_c = slope_upper[order_in]
+        kappa_u, _, _ = own_frame_geometry(slope_u_c, second_upper[order_in], r_min)
     norm_u = np.sqrt(1.0 + slope_u_c**2)
-    geometry = ContactGeometry(
+    return ContactGeometry(
         point=order.astype(np.int64),
-        x=lower.x[order],
+        x=x[order_in],
         gap0=gap_c[order_in],
-        height_lower=f_l[order],
+        height_lower=height_lower[order_in],
         curvature_lower=kappa_l,
         curvature_upper=kappa_u,
         m_x=slope_u_c / norm_u,
@@ -309,11 +341,9 @@ def contact_geometry(
         n_z=n_z,
         first_step_index=active,
         displacement=displacement,
-        dx=lower.dx,
+        dx=dx,
         mean_gap0=float(mean_gap0),
     )
-
-    return geometry
 
 
 def check_bodies(lower: Any, upper: Any) -> None:
