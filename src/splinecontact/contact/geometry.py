@@ -50,6 +50,7 @@ __all__ = [
     "check_positive",
     "contact_centre_height",
     "contact_geometry",
+    "displacement_steps",
     "order_candidates",
     "sphere_contact",
 ]
@@ -173,6 +174,33 @@ def _place_bodies(
     return _grown(gaps[:count], count), _grown_int(candidates[:count], count), gap_sum / n
 
 
+def displacement_steps(
+    final_displacement: float | None,
+    final_displacement_factor: float,
+    peak_to_valley: float,
+    steps: int,
+) -> NDArray[np.float64]:
+    """δ_N at steps 0…steps [µm]: up to ``final_displacement`` [µm], or by default
+    ``final_displacement_factor`` [1] × the lower body's ``peak_to_valley`` height [µm]."""
+    if final_displacement is None:
+        check_positive("final_displacement_factor", final_displacement_factor, "")
+        final = final_displacement_factor * peak_to_valley
+        if not final > 0:
+            raise ParameterError(
+                "the lower profile is flat (peak-to-valley height 0 µm), so the default final "
+                "displacement is 0; give final_displacement in µm"
+            )
+    else:
+        final = check_positive("final_displacement", final_displacement, " µm")
+    if final > LENGTH_LIMIT:
+        raise ParameterError(
+            f"the final displacement {final!r} µm is beyond {LENGTH_LIMIT:g} µm, where the "
+            "displacement steps would overflow; give final_displacement in µm (of the order of "
+            "the profile heights)"
+        )
+    return final * np.arange(steps + 1) / steps
+
+
 def check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
     value = check_real(name, value, unit.strip(), maximum=MAGNITUDE_LIMIT)
     if not (value >= 0 if allow_zero else value > 0):
@@ -256,23 +284,9 @@ def contact_geometry(
     else:
         fit_l, fit_u = fits
     f_l = fit_l.f
-    if final_displacement is None:
-        check_positive("final_displacement_factor", final_displacement_factor, "")
-        final = final_displacement_factor * lower.peak_to_valley
-        if not final > 0:
-            raise ParameterError(
-                "the lower profile is flat (peak-to-valley height 0 µm), so the default final "
-                "displacement is 0; give final_displacement in µm"
-            )
-    else:
-        final = check_positive("final_displacement", final_displacement, " µm")
-    if final > LENGTH_LIMIT:
-        raise ParameterError(
-            f"the final displacement {final!r} µm is beyond {LENGTH_LIMIT:g} µm, where the "
-            "displacement steps would overflow; give final_displacement in µm (of the order of "
-            "the profile heights)"
-        )
-    displacement = final * np.arange(steps + 1) / steps
+    displacement = displacement_steps(
+        final_displacement, final_displacement_factor, lower.peak_to_valley, steps
+    )
     # gap0 ≥ 0 with minimum 0 at the highest point of f^u + f^l. Only the points whose gap
     # closes to within the law's reach by the last step are ever visited (detection
     # z^u ≤ z^l + reach).
