@@ -47,6 +47,7 @@ __all__ = [
     "ContactGeometry",
     "add_contact_forces",
     "check_bodies",
+    "check_same_grid",
     "check_positive",
     "contact_centre_height",
     "contact_geometry",
@@ -267,18 +268,7 @@ def contact_geometry(
     """
     check_bodies(lower, upper)
     flat = isinstance(upper, str)
-    if not flat:
-        assert isinstance(upper, Profile)  # for mypy: check_bodies has refused anything else
-        if upper.n_points != lower.n_points:
-            raise GridMismatchError(
-                f"the upper profile has {upper.n_points} points and the lower {lower.n_points}; "
-                "both bodies must share one grid (resample or crop one of them)"
-            )
-        if abs(upper.dx - lower.dx) > UNIFORM_GRID_RTOL * lower.dx:
-            raise GridMismatchError(
-                f"grid spacings differ: upper dx = {upper.dx!r} µm, lower dx = {lower.dx!r} µm; "
-                "both bodies must share one grid (resample one of them)"
-            )
+    check_same_grid(lower, upper)
     if fits is None:
         fit_l, fit_u = fit_spline_pair(lower, None if flat else upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
@@ -358,6 +348,22 @@ def order_candidates(
         dx=dx,
         mean_gap0=float(mean_gap0),
     )
+
+
+def check_same_grid(lower: Profile, upper: Profile | str) -> None:
+    """Refuse an upper profile whose grid differs from the lower one's (GridMismatchError)."""
+    if isinstance(upper, str):
+        return
+    if upper.n_points != lower.n_points:
+        raise GridMismatchError(
+            f"the upper profile has {upper.n_points} points and the lower {lower.n_points}; "
+            "both bodies must share one grid (resample or crop one of them)"
+        )
+    if abs(upper.dx - lower.dx) > UNIFORM_GRID_RTOL * lower.dx:
+        raise GridMismatchError(
+            f"grid spacings differ: upper dx = {upper.dx!r} µm, lower dx = {lower.dx!r} µm; "
+            "both bodies must share one grid (resample one of them)"
+        )
 
 
 def check_bodies(lower: Any, upper: Any) -> None:

@@ -57,6 +57,7 @@ from ..generate import (
     as_seed_sequence,
     child_seed,
 )
+from ..errors import ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import _MAX_GRID_LAMBDA, _reinsch_uniform, smoothing_parameter
@@ -433,6 +434,7 @@ def _run(
     record_steps: NDArray[np.int64],
     law: ContactLaw,
     chunk: int,
+    max_recorded: int,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...], dict[str, float], float]:
     """Placement, candidates and the loading loop of a streamed realization (units as in
     :func:`simulate_streamed`); returns curves, recorded contacts, statistics and dx [µm]."""
@@ -440,8 +442,6 @@ def _run(
     lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
     lam_grid = lam / dx**3
     if not lam_grid <= _MAX_GRID_LAMBDA:
-        from ..errors import ParameterError
-
         raise ParameterError(
             f"the smoothing weight in grid units λ/dx³ = {lam_grid:.3g} (λ = {lam:.3g} µm³, "
             f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
@@ -464,6 +464,14 @@ def _run(
         slope_upper=None if flat else at["slope_u"], second_upper=None if flat else at["second_u"],
         dx=dx,
     )  # fmt: skip
+    if record_steps.size:
+        reserved = int(geometry.first_step_index[record_steps].sum())
+        if reserved > max_recorded:
+            raise ParameterError(
+                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
+                f"closed, summed over {record_steps.size} recorded steps), above "
+                f"{max_recorded}; record fewer steps"
+            )
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )
@@ -539,12 +547,14 @@ def simulate_streamed(
     x0: float,
     record_steps: NDArray[np.int64],
     law: ContactLaw,
+    max_recorded: int = 20_000_000,
     chunk_points: int | None = None,
 ) -> SimulationResult:
     """:func:`splinecontact.simulate` of two given profiles, fitted and placed in chunks.
 
     Arguments as :func:`splinecontact.simulate` checks them (``upper`` None for a flat,
-    ``law`` bound, ``record_steps`` the recorded step indices); ``chunk_points`` [1] the chunk
+    ``law`` bound, ``record_steps`` the recorded step indices, at most ``max_recorded`` [1]
+    contact slots reserved for them); ``chunk_points`` [1] the chunk
     (default :data:`CHUNK_POINTS`, rounded up to a multiple of 2048). ``simulate`` calls it
     for profiles of :data:`STREAM_MIN_POINTS` points or more: the spline's f, f′ and f″ (six
     arrays of n values) are never made. Bodies must share one grid (``simulate`` checks it).
@@ -555,7 +565,7 @@ def simulate_streamed(
         n=n, length=lower.length, x=lower.x, peak_to_valley=lower.peak_to_valley, steps=steps,
         final_displacement=final_displacement, final_displacement_factor=final_displacement_factor,
         e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, record_steps=record_steps,
-        law=law, chunk=_chunk(chunk_points),
+        law=law, chunk=_chunk(chunk_points), max_recorded=max_recorded,
     )  # fmt: skip
     return _result(
         curves, contacts, stats, flat=upper is None, n=n, length=lower.length, dx=lower.dx,
@@ -638,8 +648,6 @@ def simulate_generated(
     check_positive("x0", x0, " µm")
     law = Hertz() if law is None else check_law(law)
     if getattr(law, "needs_radius", False):
-        from ..errors import ParameterError
-
         raise ParameterError(
             f"the law {type(law).__name__} needs the bodies' radii, which a streamed "
             "realization does not keep; use simulate() on generated profiles"
@@ -666,7 +674,7 @@ def simulate_generated(
         peak_to_valley=parts[0][2], steps=steps, final_displacement=final_displacement,
         final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
         mu0=mu0, alpha=alpha, x0=x0, record_steps=np.zeros(0, dtype=np.int64), law=law,
-        chunk=chunk,
+        chunk=chunk, max_recorded=0,
     )  # fmt: skip
     return _result(
         curves, contacts, stats, flat=flat, n=n, length=length, dx=dx, steps=steps,
