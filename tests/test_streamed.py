@@ -40,7 +40,9 @@ def _assert_same(streamed_run: Any, whole: Any) -> None:
             np.testing.assert_array_equal(values, reference, err_msg=name)
         else:
             scale = float(np.max(np.abs(reference)))
-            np.testing.assert_allclose(values, reference, rtol=RTOL, atol=RTOL * scale, err_msg=name)
+            np.testing.assert_allclose(
+                values, reference, rtol=RTOL, atol=RTOL * scale, err_msg=name
+            )
     assert streamed_run.scalars.keys() == whole.scalars.keys()
     for name, reference in whole.scalars.items():
         assert streamed_run.scalars[name] == pytest.approx(reference, rel=RTOL, abs=1e-300), name
@@ -51,7 +53,9 @@ def _assert_same(streamed_run: Any, whole: Any) -> None:
 
 @pytest.mark.parametrize("flat", [False, True], ids=["rough-on-rough", "rough-on-flat"])
 @pytest.mark.parametrize(("dimension", "seed"), [(1.2, 1), (1.5, 2), (1.8, 3)])
-def test_generated_realization_equals_the_whole_run(dimension: float, seed: int, flat: bool) -> None:
+def test_generated_realization_equals_the_whole_run(
+    dimension: float, seed: int, flat: bool
+) -> None:
     whole = _whole(dimension, seed, flat, steps=60)
     for chunk in (2048, 3 * 2048):
         run = simulate_generated(
@@ -117,9 +121,7 @@ def test_study_realization_streams_from_the_threshold(monkeypatch: pytest.Monkey
 def test_chunked_heights_are_bit_identical() -> None:
     n, length = 10_000, 1.0
     profile = weierstrass_mandelbrot(1.5, n_points=n, length=length, seed=4)
-    source, _, _ = streamed._generated(
-        (1.5, n, length, 1.0, 1.5, 20, 20, 0.005, "hurst"), 4, 2048
-    )
+    source, _, _ = streamed._generated((1.5, n, length, 1.0, 1.5, 20, 20, 0.005, "hurst"), 4, 2048)
     for start, stop in ((0, 2048), (4096, 10_000), (2048, 8192)):
         out = np.empty(stop - start)
         assert np.array_equal(source.fill(out, start), profile.z[start:stop])
@@ -174,7 +176,9 @@ def test_margin_follows_the_measured_decay() -> None:
     seed=st.integers(min_value=0, max_value=10_000),
     flat=st.booleans(),
 )
-def test_seams_neither_lose_nor_duplicate_contacts(chunk_blocks: int, seed: int, flat: bool) -> None:
+def test_seams_neither_lose_nor_duplicate_contacts(
+    chunk_blocks: int, seed: int, flat: bool
+) -> None:
     whole = _whole(1.5, seed, flat, steps=30, record_contacts="all")
     lower, upper = weierstrass_mandelbrot_pair(1.5, seed=seed, **GEN)
     run = streamed.simulate_streamed(

@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._checks import check_integer
+from ..errors import ParameterError
 from ..generate import (
     _BLOCK,
     _check_peak,
@@ -51,13 +52,12 @@ from ..generate import (
     _heights_kernel,
     _metadata,
     _shift_scale,
-    _terms,
     _Terms,
+    _terms,
     _validate,
     as_seed_sequence,
     child_seed,
 )
-from ..errors import ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import _MAX_GRID_LAMBDA, _reinsch_uniform, smoothing_parameter
@@ -157,9 +157,7 @@ class _GeneratedHeights(_Heights):
         return out
 
 
-def _first_pass(
-    terms: _Terms, n: int, dx: float, chunk: int
-) -> tuple[float, float, float, float]:
+def _first_pass(terms: _Terms, n: int, dx: float, chunk: int) -> tuple[float, float, float, float]:
     """Σ z, Σ |z| (as one whole run sums them), max and min of eq. 1's unscaled heights."""
     buffer = np.empty(min(chunk, n))
     total = total_abs = 0.0
@@ -560,7 +558,7 @@ def simulate_streamed(
     arrays of n values) are never made. Bodies must share one grid (``simulate`` checks it).
     """
     n = lower.n_points
-    curves, contacts, stats, dx = _run(
+    curves, contacts, stats, _ = _run(
         _GivenHeights(lower.z), None if upper is None else _GivenHeights(upper.z),
         n=n, length=lower.length, x=lower.x, peak_to_valley=lower.peak_to_valley, steps=steps,
         final_displacement=final_displacement, final_displacement_factor=final_displacement_factor,

@@ -143,8 +143,10 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
     sim["diagnostics"] = False
     from ..contact.streamed import STREAM_MIN_POINTS, simulate_generated
 
-    if int(gen["n_points"]) >= STREAM_MIN_POINTS and segments is None and not getattr(
-        sim.get("law"), "needs_radius", False
+    if (
+        int(gen["n_points"]) >= STREAM_MIN_POINTS
+        and segments is None
+        and not getattr(sim.get("law"), "needs_radius", False)
     ):  # generated, fitted and placed in chunks (the same results, no array of n values)
         flat = parameters["contact_type"] != "rough-on-rough"
         del sim["diagnostics"]
