@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from splinecontact import Profile, simulate, weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-from splinecontact.contact import JKR, streamed
+from splinecontact.contact import JKR, _chunks, streamed
 from splinecontact.contact.laws import Hertz
 from splinecontact.contact.streamed import margin_points, simulate_generated
 from splinecontact.errors import GridMismatchError, ParameterError
@@ -165,7 +165,7 @@ def test_margin_follows_the_measured_decay() -> None:
     f, slope, second = (np.empty(n) for _ in range(3))
     _reinsch_uniform(z, lam_grid, dx, dx * dx, f, slope, second)
     envelope = [np.max(np.abs(f[n // 2 + d : n // 2 + d + 40])) for d in (100, 200)]
-    rho = streamed._decay_rate(lam_grid)
+    rho = _chunks._decay_rate(lam_grid)
     assert envelope[1] / envelope[0] == pytest.approx(rho**100, rel=0.5)
     assert 300 < margin_points(lam_grid) < 500
 
