@@ -87,13 +87,17 @@ def _body_sums(
     """Add Σ|z − mean|, Σ(z − mean)², Σ((z_i − z_{i−1})/dx)² (i ≥ first_diff), Σ f′² over
     the window's points [lo, hi) to ``sums[0:4]``."""
     a = q = d = s = 0.0
-    for i in range(lo, hi):
-        v = z[i] - mean
+    part = z[lo:hi]  # slices: indices known non-negative, so the loops vectorise
+    part_slope = slope[lo:hi]
+    for i in range(part.size):
+        v = part[i] - mean
         a += abs(v)
         q += v * v
-        s += slope[i] * slope[i]
-    for i in range(first_diff, hi):
-        step = (z[i] - z[i - 1]) / dx
+        s += part_slope[i] * part_slope[i]
+    here = z[first_diff:hi]
+    before = z[first_diff - 1 : hi - 1]
+    for i in range(here.size):
+        step = (here[i] - before[i]) / dx
         d += step * step
     sums[0] += a
     sums[1] += q
@@ -101,7 +105,7 @@ def _body_sums(
     sums[3] += s
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=_FLAGS)
 def _pair_chunk(
     z_l: NDArray[np.float64],
     z_u: NDArray[np.float64],
@@ -116,47 +120,45 @@ def _pair_chunk(
     dx: float,
     highest: float,
     limit: float,
+    reference: float,
     sums: NDArray[np.float64],
     keep: NDArray[np.int64],
 ) -> tuple[float, int]:  # pragma: no cover - compiled
     """One chunk of the placement (points [lo, hi) of the window).
 
     Returns the highest f^u + f^l so far and the number of points written to ``keep`` (window
-    indices) whose f^u + f^l is within ``limit`` (+ rounding) of it. Adds to ``sums``: Σ of
-    (f^u + f^l) (compensated), its compensation, Σ((Δ(z^u + z^l))/dx)², Σ(f′^u + f′^l)².
+    indices) whose f^u + f^l is within ``limit`` (+ rounding) of it. Adds to ``sums``:
+    Σ(f^u + f^l − reference), Σ((Δ(z^u + z^l))/dx)², Σ(f′^u + f′^l)².
     """
-    for i in range(lo, hi):
-        total = f_l[i] if flat else f_u[i] + f_l[i]
-        if total > highest:
-            highest = total
+    lower = f_l[lo:hi]
+    upper = lower if flat else f_u[lo:hi]
+    total_sum = 0.0
+    for i in range(lower.size):
+        total = lower[i] if flat else upper[i] + lower[i]
+        highest = max(highest, total)
+        total_sum += total - reference
+    sums[0] += total_sum
     bound = highest - limit - 1e-12 * (abs(highest) + limit)  # keeps every final candidate
     count = 0
-    s = sums[0]
-    c = sums[1]
-    for i in range(lo, hi):
-        total = f_l[i] if flat else f_u[i] + f_l[i]
+    for i in range(lower.size):
+        total = lower[i] if flat else upper[i] + lower[i]
         if total >= bound:
-            keep[count] = i
+            keep[count] = lo + i
             count += 1
-        t = s + total  # Neumaier's compensated sum (not reassociated: two separate steps)
-        if abs(s) >= abs(total):
-            c += (s - t) + total
-        else:
-            c += (total - t) + s
-        s = t
-    sums[0] = s
-    sums[1] = c
     if not flat:
         d = 0.0
-        for i in range(first_diff, hi):
-            step = ((z_l[i] + z_u[i]) - (z_l[i - 1] + z_u[i - 1])) / dx
+        here_l, here_u = z_l[first_diff:hi], z_u[first_diff:hi]
+        before_l, before_u = z_l[first_diff - 1 : hi - 1], z_u[first_diff - 1 : hi - 1]
+        for i in range(here_l.size):
+            step = ((here_l[i] + here_u[i]) - (before_l[i] + before_u[i])) / dx
             d += step * step
         q = 0.0
-        for i in range(lo, hi):
-            v = s_l[i] + s_u[i]
+        slope_l, slope_u = s_l[lo:hi], s_u[lo:hi]
+        for i in range(slope_l.size):
+            v = slope_l[i] + slope_u[i]
             q += v * v
-        sums[2] += d
-        sums[3] += q
+        sums[1] += d
+        sums[2] += q
     return highest, count
 
 
@@ -184,14 +186,17 @@ class _Body:
         self.sums = np.zeros(4)
         self.high, self.low = -math.inf, math.inf
 
-    def fit(self, start: int, stop: int, lam_grid: float, dx: float) -> None:
+    def fit(self, start: int, stop: int, lam_grid: float, dx: float, own: tuple[int, ...]) -> None:
+        """Heights and fit of the window [start, stop); the sums of its own points
+        ``own`` = (lo, hi, first_diff), window indices."""
         width = stop - start
         self.z = self.heights.fill(self.z_buffer[:width], start)
         _reinsch_uniform(
             self.z, lam_grid, dx, dx * dx, self.f[:width], self.slope[:width], self.second[:width]
         )
+        self._reduce(*own, dx)
 
-    def reduce(self, lo: int, hi: int, first_diff: int, dx: float) -> None:
+    def _reduce(self, lo: int, hi: int, first_diff: int, dx: float) -> None:
         _body_sums(self.z, self.slope, lo, hi, first_diff, self.heights.mean, dx, self.sums)
         part = self.z[lo:hi]
         self.high, self.low = max(self.high, float(part.max())), min(self.low, float(part.min()))
@@ -218,27 +223,29 @@ def _stream(
     bodies = [_Body(lower, size)] + ([] if upper is None else [_Body(upper, size)])
     keep = np.empty(chunk, dtype=np.int64)
     kept: list[tuple[NDArray[Any], ...]] = []
-    pair_sums = np.zeros(4)
+    pair_sums = np.zeros(3)
     highest = -math.inf
+    reference = math.nan  # f^u + f^l at the first point: the sum of the totals is about it
     pool = ThreadPoolExecutor(max_workers=2) if len(bodies) == 2 and n >= 2 * chunk else None
     try:
         for start in range(0, n, chunk):
             stop = min(start + chunk, n)
             w0, w1 = max(0, start - margin), min(n, stop + margin)
-            if pool is None:
-                for body in bodies:
-                    body.fit(w0, w1, lam_grid, dx)
-            else:
-                for future in [pool.submit(b.fit, w0, w1, lam_grid, dx) for b in bodies]:
-                    future.result()
             lo, hi = start - w0, stop - w0
             first_diff = lo if start > 0 else lo + 1
-            for body in bodies:
-                body.reduce(lo, hi, first_diff, dx)
+            own = (lo, hi, first_diff)
+            if pool is None:
+                for body in bodies:
+                    body.fit(w0, w1, lam_grid, dx, own)
+            else:  # the two bodies on two threads (the kernels release the GIL)
+                for future in [pool.submit(b.fit, w0, w1, lam_grid, dx, own) for b in bodies]:
+                    future.result()
             bl, bu = bodies[0], bodies[-1]
+            if start == 0:
+                reference = float(bl.f[0] if flat else bu.f[0] + bl.f[0])
             highest, count = _pair_chunk(
                 bl.z, bu.z, bl.f, bu.f, bl.slope, bu.slope, flat, lo, hi, first_diff, dx,
-                highest, limit, pair_sums, keep,
+                highest, limit, reference, pair_sums, keep,
             )  # fmt: skip
             at = keep[:count]
             kept.append(
@@ -250,7 +257,7 @@ def _stream(
             pool.shutdown()
     names = ("point", "f_l", "f_u", "slope_l", "second_l", "slope_u", "second_u")
     columns = {name: np.concatenate([k[i] for k in kept]) for i, name in enumerate(names)}
-    mean_gap0 = highest - (pair_sums[0] + pair_sums[1]) / n
+    mean_gap0 = (highest - reference) - pair_sums[0] / n
     return columns, highest, mean_gap0, _statistics(bodies, pair_sums, n, flat)
 
 
@@ -276,7 +283,7 @@ def _statistics(
         rq_upper=float(np.sqrt(up.sums[1] / n)),
         rsq_upper=float(np.sqrt(up.sums[2] / (n - 1))),
         rsq_upper_spline=float(np.sqrt(up.sums[3] / n)),
-        rsq_gap=float(np.sqrt(pair_sums[2] / (n - 1))),
-        rsq_gap_spline=float(np.sqrt(pair_sums[3] / n)),
+        rsq_gap=float(np.sqrt(pair_sums[1] / (n - 1))),
+        rsq_gap_spline=float(np.sqrt(pair_sums[2] / n)),
     )
     return stats
