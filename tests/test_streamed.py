@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from splinecontact import Profile, simulate, weierstrass_mandelbrot, weierstrass_mandelbrot_pair
-from splinecontact.contact import JKR, _chunks, streamed
+from splinecontact.contact import DMT, JKR, ElasticPlastic, _chunks, streamed
 from splinecontact.contact.laws import Hertz
 from splinecontact.contact.streamed import margin_points, simulate_generated
 from splinecontact.errors import GridMismatchError, ParameterError
@@ -81,6 +81,17 @@ def test_given_profiles_and_a_law_with_a_reach_equal_the_whole_run() -> None:
         np.testing.assert_allclose(ours.normal_force, theirs.normal_force, rtol=RTOL)
     with pytest.raises(ParameterError, match="needs the bodies' radii"):
         simulate_generated(1.5, seed=1, generator=GEN, law=law, chunk_points=2048)
+
+
+@pytest.mark.parametrize(
+    "law",
+    [DMT(work_of_adhesion=0.2, cohesive_stress=0.5), ElasticPlastic(yield_strength=0.5)],
+    ids=["dmt-with-a-reach", "elastic-plastic"],
+)
+def test_other_laws_equal_the_whole_run(law: Any) -> None:
+    whole = _whole(1.5, 9, False, steps=40, law=law)
+    run = simulate_generated(1.5, seed=9, generator=GEN, steps=40, law=law, chunk_points=2048)
+    _assert_same(run, whole)
 
 
 def test_simulate_streams_from_the_threshold(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -380,8 +380,9 @@ def simulate_generated(
     import inspect
 
     from ..generate import weierstrass_mandelbrot
+    from .simulation import MAX_STEPS
 
-    steps = check_integer("steps", steps, minimum=1, note="paper: 1000")
+    steps = check_integer("steps", steps, minimum=1, maximum=MAX_STEPS, note="paper: 1000")
     if final_displacement is not None:
         check_positive("final_displacement", final_displacement, " µm")
     check_positive("final_displacement_factor", final_displacement_factor, "")
