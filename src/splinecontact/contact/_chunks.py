@@ -186,7 +186,9 @@ class _Body:
         self.sums = np.zeros(4)
         self.high, self.low = -math.inf, math.inf
 
-    def fit(self, start: int, stop: int, lam_grid: float, dx: float, own: tuple[int, ...]) -> None:
+    def fit(
+        self, start: int, stop: int, lam_grid: float, dx: float, own: tuple[int, int, int]
+    ) -> None:
         """Heights and fit of the window [start, stop); the sums of its own points
         ``own`` = (lo, hi, first_diff), window indices."""
         width = stop - start
