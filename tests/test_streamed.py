@@ -221,3 +221,14 @@ def test_a_profile_too_short_for_a_chunk_is_one_window() -> None:
         record_steps=np.zeros(0, dtype=np.int64), law=Hertz(), chunk_points=2048,
     )  # fmt: skip
     _assert_same(run, whole)
+
+
+@pytest.mark.slow
+def test_default_chunks_at_a_few_million_points() -> None:
+    """The default chunk (2²⁰ points, three chunks and a partial one) on the paper's grid."""
+    generator = {"n_points": 3_500_000, "length": 350.0}
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=21, **generator)
+    whole = simulate(lower, upper, steps=200, diagnostics=False)
+    del lower, upper
+    run = simulate_generated(1.5, seed=21, generator=generator, steps=200)
+    _assert_same(run, whole)
