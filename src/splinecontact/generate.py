@@ -27,7 +27,7 @@ from __future__ import annotations
 import inspect
 import math
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numba
 import numpy as np
@@ -144,8 +144,15 @@ def _heights_kernel(
     prefactor: float,
     constant: float,
     shift: float,
+    first_index: int,
+    total: float,
+    total_abs: float,
 ) -> tuple[float, float]:  # pragma: no cover - compiled
-    """out_j = prefactor·(constant − Σ_k Re(A_k exp(i ω_k j dx))) − shift; return Σ out, Σ |out|.
+    """out_j = prefactor·(constant − Σ_k Re(A_k exp(i ω_k x_j))) − shift; return Σ out, Σ |out|.
+
+    ``out`` holds the grid points ``first_index + j`` (x_j = (first_index + j)·dx); ``total`` and
+    ``total_abs`` are the sums so far, continued here. With ``first_index`` a multiple of
+    ``block``, a run in pieces writes and sums bit for bit what one whole run does.
 
     Each term c_k(j) = Re(A_k exp(i θ_k j)), θ_k = ω_k dx, obeys the three-term (Chebyshev)
     recurrence c(j + 1) = 2 cos θ_k · c(j) − c(j − 1): one multiply-add per term and point. It
@@ -168,8 +175,6 @@ def _heights_kernel(
     twice = np.empty(n_terms)  # 2 cos θ
     now = np.empty(n_terms)  # c(j)
     before = np.empty(n_terms)  # c(j − 1)
-    total = 0.0
-    total_abs = 0.0
     for k in range(n_terms):
         r_re[k] = math.cos(omega[k] * dx)
         r_im[k] = math.sin(omega[k] * dx)
@@ -178,7 +183,7 @@ def _heights_kernel(
         twice[k] = 2.0 * r_re[k]
     for start in range(0, n_points, block):
         stop = min(start + block, n_points)
-        x_start = start * dx
+        x_start = (first_index + start) * dx
         for k in range(n_terms):
             c = math.cos(omega[k] * x_start)
             s = math.sin(omega[k] * x_start)
@@ -415,23 +420,26 @@ def weierstrass_mandelbrot(
     )
 
 
-def _generate(
-    dimension: float,
-    n_points: int,
-    length: float,
-    wavelength: float,
-    gamma: float,
-    directions: int,
-    n_max: int,
-    ra: float,
-    amplitude_law: AmplitudeLaw,
-    seed: SeedLike,
-    x: NDArray[np.float64] | None = None,
-) -> Profile:
-    """Eq. 1 on validated parameters; ``x`` is a read-only grid to share (e.g. within a pair)."""
-    n_points = int(n_points)
-    directions = int(directions)
-    n_max = int(n_max)
+class _Terms(NamedTuple):
+    """The cosines of eq. 1 kept on a grid, as :func:`_heights_kernel` takes them."""
+
+    omega: NDArray[np.float64]  # angular frequencies [1/µm]
+    amp_re: NDArray[np.float64]  # Re A_k [1]
+    amp_im: NDArray[np.float64]  # Im A_k [1]
+    prefactor: float  # L^(4−2D) ln γ [µm]
+    constant: float  # Σ a_n cos φ [1]
+    shift: float  # the grid mean of prefactor·(constant − Σ) [µm]
+    amplitude_sum: float  # Σ |A_k| [1]
+    n_dropped: int
+    n_zero: int
+
+
+def _terms(
+    dimension: float, n_points: int, length: float, wavelength: float, gamma: float,
+    directions: int, n_max: int, amplitude_law: AmplitudeLaw, seed: SeedLike,
+) -> _Terms:  # fmt: skip
+    """Draw the phases of eq. 1 and merge its terms (validated parameters; ParameterError
+    when every term lies above the grid's Nyquist frequency)."""
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     phases = rng.uniform(0.0, 2.0 * np.pi, size=(directions, n_max + 1))  # φ[m-1, n]
 
@@ -445,9 +453,7 @@ def _generate(
     # Merge m and M − m (cos(π(M−m)/M) = −cos(πm/M)): cos(−|ω|x + φ) = cos(|ω|x − φ).
     omegas: list[float] = []
     amps: list[complex] = []
-    constant = 0.0
-    n_dropped = 0
-    n_zero = 0
+    constant, n_dropped, n_zero = 0.0, 0, 0
     for m in range(1, directions + 1):
         partner = directions - m
         if 1 <= partner < m:
@@ -475,50 +481,42 @@ def _generate(
 
     omega = np.asarray(omegas, dtype=np.float64)
     coeff = np.asarray(amps, dtype=np.complex128)
-    z = empty(n_points)
-    if omega.size:
-        # the mean of eq. 1 on the grid is known in closed form, so the kernel writes heights
-        # about their mean and sums |z| on the fly; one more pass removes the last rounding of
-        # the mean and scales to R_A
-        shift = prefactor * (constant - _mean_of_cosines(n_points, dx, omega, coeff))
-        total, total_abs = _heights_kernel(
-            z,
-            dx,
-            omega,
-            np.ascontiguousarray(coeff.real),
-            np.ascontiguousarray(coeff.imag),
-            _BLOCK,
-            prefactor,
-            constant,
-            shift,
-        )
-        residual_mean = total / n_points
-        mean_abs = total_abs / n_points
-    else:
-        z[:] = 0.0
-        residual_mean = mean_abs = 0.0
     if omega.size == 0:
         raise ParameterError(
             "every term of eq. 1 lies above the Nyquist frequency of this grid; "
             f"use more points than {n_points} or a longer wavelength than {wavelength} µm"
         )
-    if not mean_abs > _MIN_RELATIVE_VARIATION * prefactor * float(np.abs(coeff).sum()):
+    # the mean of eq. 1 on the grid is known in closed form, so the kernel writes heights
+    # about their mean and sums |z| on the fly
+    shift = prefactor * (constant - _mean_of_cosines(n_points, dx, omega, coeff))
+    return _Terms(
+        omega, np.ascontiguousarray(coeff.real), np.ascontiguousarray(coeff.imag), prefactor,
+        constant, shift, float(np.abs(coeff).sum()), n_dropped, n_zero,
+    )  # fmt: skip
+
+
+def _check_variation(mean_abs: float, terms: _Terms, wavelength: float, length: float) -> None:
+    if not mean_abs > _MIN_RELATIVE_VARIATION * terms.prefactor * terms.amplitude_sum:
         raise ParameterError(
             f"the profile varies by less than the rounding error of eq. 1's sum: every kept "
             f"wavelength is much longer than the profile (L = {wavelength!r} µm, length = "
             f"{length!r} µm); use a wavelength L of the order of the profile length or shorter"
         )
-    _shift_scale(z, residual_mean, ra / mean_abs)
-    peak = max(float(z.max()), -float(z.min()))
+
+
+def _check_peak(peak: float, ra: float) -> None:
     if not peak <= LENGTH_LIMIT:
         raise ParameterError(
             f"ra = {ra!r} µm gives heights up to {peak:.3g} µm, beyond {LENGTH_LIMIT:g} µm where "
             "the contact computation would overflow; give a smaller ra"
         )
-    if x is None:
-        x = grid(length, n_points)
-        x.setflags(write=False)
-    metadata: dict[str, Any] = {
+
+
+def _metadata(params: tuple[Any, ...], seed: SeedLike, terms: _Terms) -> dict[str, Any]:
+    """A generated profile's metadata; ``params`` as :func:`_validate` returns them, then the
+    amplitude law."""
+    dimension, n_points, length, wavelength, gamma, directions, n_max, ra, amplitude_law = params
+    return {
         "source": "weierstrass_mandelbrot",
         "dimension": float(dimension),
         "nominal_hurst": (2.0 - dimension) * (1.0 if amplitude_law == "hurst" else 2.0),
@@ -531,12 +529,49 @@ def _generate(
         "ra": float(ra),
         "amplitude_law": amplitude_law,
         "n_terms": directions * (n_max + 1),
-        "n_terms_zero_frequency": n_zero,
-        "n_terms_dropped_above_nyquist": n_dropped,
-        "n_cosines_evaluated": int(omega.size),
+        "n_terms_zero_frequency": terms.n_zero,
+        "n_terms_dropped_above_nyquist": terms.n_dropped,
+        "n_cosines_evaluated": int(terms.omega.size),
         "units": {"x": "µm", "z": "µm"},
         **_seed_metadata(seed),
     }
+
+
+def _generate(
+    dimension: float,
+    n_points: int,
+    length: float,
+    wavelength: float,
+    gamma: float,
+    directions: int,
+    n_max: int,
+    ra: float,
+    amplitude_law: AmplitudeLaw,
+    seed: SeedLike,
+    x: NDArray[np.float64] | None = None,
+) -> Profile:
+    """Eq. 1 on validated parameters; ``x`` is a read-only grid to share (e.g. within a pair)."""
+    n_points, directions, n_max = int(n_points), int(directions), int(n_max)
+    terms = _terms(
+        dimension, n_points, length, wavelength, gamma, directions, n_max, amplitude_law, seed
+    )
+    dx = length / (n_points - 1)
+    z = empty(n_points)
+    total, total_abs = _heights_kernel(
+        z, dx, terms.omega, terms.amp_re, terms.amp_im, _BLOCK, terms.prefactor, terms.constant,
+        terms.shift, 0, 0.0, 0.0,
+    )  # fmt: skip
+    residual_mean, mean_abs = total / n_points, total_abs / n_points
+    _check_variation(mean_abs, terms, wavelength, length)
+    # one more pass removes the last rounding of the mean and scales to R_A
+    _shift_scale(z, residual_mean, ra / mean_abs)
+    _check_peak(max(float(z.max()), -float(z.min())), ra)
+    if x is None:
+        x = grid(length, n_points)
+        x.setflags(write=False)
+    params = (dimension, n_points, length, wavelength, gamma, directions, n_max, ra,
+              amplitude_law)  # fmt: skip
+    metadata = _metadata(params, seed, terms)
     z.setflags(write=False)
     return Profile._from_trusted(x, z, metadata)
 

@@ -48,8 +48,11 @@ __all__ = [
     "add_contact_forces",
     "check_bodies",
     "check_positive",
+    "check_same_grid",
     "contact_centre_height",
     "contact_geometry",
+    "displacement_steps",
+    "order_candidates",
     "sphere_contact",
 ]
 
@@ -172,6 +175,33 @@ def _place_bodies(
     return _grown(gaps[:count], count), _grown_int(candidates[:count], count), gap_sum / n
 
 
+def displacement_steps(
+    final_displacement: float | None,
+    final_displacement_factor: float,
+    peak_to_valley: float,
+    steps: int,
+) -> NDArray[np.float64]:
+    """δ_N at steps 0…steps [µm]: up to ``final_displacement`` [µm], or by default
+    ``final_displacement_factor`` [1] × the lower body's ``peak_to_valley`` height [µm]."""
+    if final_displacement is None:
+        check_positive("final_displacement_factor", final_displacement_factor, "")
+        final = final_displacement_factor * peak_to_valley
+        if not final > 0:
+            raise ParameterError(
+                "the lower profile is flat (peak-to-valley height 0 µm), so the default final "
+                "displacement is 0; give final_displacement in µm"
+            )
+    else:
+        final = check_positive("final_displacement", final_displacement, " µm")
+    if final > LENGTH_LIMIT:
+        raise ParameterError(
+            f"the final displacement {final!r} µm is beyond {LENGTH_LIMIT:g} µm, where the "
+            "displacement steps would overflow; give final_displacement in µm (of the order of "
+            "the profile heights)"
+        )
+    return final * np.arange(steps + 1) / steps
+
+
 def check_positive(name: str, value: float, unit: str, *, allow_zero: bool = False) -> float:
     value = check_real(name, value, unit.strip(), maximum=MAGNITUDE_LIMIT)
     if not (value >= 0 if allow_zero else value > 0):
@@ -238,41 +268,15 @@ def contact_geometry(
     """
     check_bodies(lower, upper)
     flat = isinstance(upper, str)
-    if not flat:
-        assert isinstance(upper, Profile)  # for mypy: check_bodies has refused anything else
-        if upper.n_points != lower.n_points:
-            raise GridMismatchError(
-                f"the upper profile has {upper.n_points} points and the lower {lower.n_points}; "
-                "both bodies must share one grid (resample or crop one of them)"
-            )
-        if abs(upper.dx - lower.dx) > UNIFORM_GRID_RTOL * lower.dx:
-            raise GridMismatchError(
-                f"grid spacings differ: upper dx = {upper.dx!r} µm, lower dx = {lower.dx!r} µm; "
-                "both bodies must share one grid (resample one of them)"
-            )
+    check_same_grid(lower, upper)
     if fits is None:
         fit_l, fit_u = fit_spline_pair(lower, None if flat else upper, alpha=alpha, x0=x0)  # type: ignore[arg-type]
     else:
         fit_l, fit_u = fits
-    r_min = 0.5 * lower.dx
     f_l = fit_l.f
-    if final_displacement is None:
-        check_positive("final_displacement_factor", final_displacement_factor, "")
-        final = final_displacement_factor * lower.peak_to_valley
-        if not final > 0:
-            raise ParameterError(
-                "the lower profile is flat (peak-to-valley height 0 µm), so the default final "
-                "displacement is 0; give final_displacement in µm"
-            )
-    else:
-        final = check_positive("final_displacement", final_displacement, " µm")
-    if final > LENGTH_LIMIT:
-        raise ParameterError(
-            f"the final displacement {final!r} µm is beyond {LENGTH_LIMIT:g} µm, where the "
-            "displacement steps would overflow; give final_displacement in µm (of the order of "
-            "the profile heights)"
-        )
-    displacement = final * np.arange(steps + 1) / steps
+    displacement = displacement_steps(
+        final_displacement, final_displacement_factor, lower.peak_to_valley, steps
+    )
     # gap0 ≥ 0 with minimum 0 at the highest point of f^u + f^l. Only the points whose gap
     # closes to within the law's reach by the last step are ever visited (detection
     # z^u ≤ z^l + reach).
@@ -280,27 +284,59 @@ def contact_geometry(
     gap_c, candidates, mean_gap0 = _place_bodies(
         f_l, f_l if fit_u is None else fit_u.f, fit_u is None, float(displacement[-1]) + reach
     )
+    slope_u = None if fit_u is None else fit_u.slope[candidates]
+    second_u = None if fit_u is None else fit_u.second_derivative[candidates]
+    return order_candidates(
+        gap_c, candidates, float(mean_gap0), displacement, reach, x=lower.x[candidates],
+        height_lower=f_l[candidates], slope_lower=fit_l.slope[candidates],
+        second_lower=fit_l.second_derivative[candidates], slope_upper=slope_u,
+        second_upper=second_u, dx=lower.dx,
+    )  # fmt: skip
+
+
+def order_candidates(
+    gap_c: NDArray[np.float64],
+    candidates: NDArray[np.int64],
+    mean_gap0: float,
+    displacement: NDArray[np.float64],
+    reach: float,
+    *,
+    x: NDArray[np.float64],
+    height_lower: NDArray[np.float64],
+    slope_lower: NDArray[np.float64],
+    second_lower: NDArray[np.float64],
+    slope_upper: NDArray[np.float64] | None,
+    second_upper: NDArray[np.float64] | None,
+    dx: float,
+) -> ContactGeometry:
+    """Order the candidates by the step at which they close; their spheres (eqs. 4–6).
+
+    Every array but ``displacement`` [µm] is given at the candidates, in the order of
+    ``candidates`` (grid indices): gaps at δ_N = 0 and positions and heights h^l [µm], spline
+    slopes [1] and second derivatives [1/µm] (``None`` for a flat upper body). ``reach`` [µm]
+    as in :func:`contact_geometry`, ``dx`` the grid spacing [µm].
+    """
+    steps = displacement.size - 1
     closing = np.searchsorted(displacement, gap_c - reach, side="left")
     order_in = np.argsort(closing, kind="stable")
     order = candidates[order_in]
     counts = np.bincount(closing[order_in], minlength=steps + 1)
     active = np.cumsum(counts).astype(np.int64)
+    r_min = 0.5 * dx
 
-    kappa_l, n_x, n_z = own_frame_geometry(
-        fit_l.slope[order], fit_l.second_derivative[order], r_min
-    )
-    if fit_u is None:
+    kappa_l, n_x, n_z = own_frame_geometry(slope_lower[order_in], second_lower[order_in], r_min)
+    if slope_upper is None or second_upper is None:
         slope_u_c = np.zeros(order.size)
         kappa_u = np.zeros(order.size)
     else:
-        slope_u_c = fit_u.slope[order]
-        kappa_u, _, _ = own_frame_geometry(slope_u_c, fit_u.second_derivative[order], r_min)
+        slope_u_c = slope_upper[order_in]
+        kappa_u, _, _ = own_frame_geometry(slope_u_c, second_upper[order_in], r_min)
     norm_u = np.sqrt(1.0 + slope_u_c**2)
-    geometry = ContactGeometry(
+    return ContactGeometry(
         point=order.astype(np.int64),
-        x=lower.x[order],
+        x=x[order_in],
         gap0=gap_c[order_in],
-        height_lower=f_l[order],
+        height_lower=height_lower[order_in],
         curvature_lower=kappa_l,
         curvature_upper=kappa_u,
         m_x=slope_u_c / norm_u,
@@ -309,11 +345,25 @@ def contact_geometry(
         n_z=n_z,
         first_step_index=active,
         displacement=displacement,
-        dx=lower.dx,
+        dx=dx,
         mean_gap0=float(mean_gap0),
     )
 
-    return geometry
+
+def check_same_grid(lower: Profile, upper: Profile | str) -> None:
+    """Refuse an upper profile whose grid differs from the lower one's (GridMismatchError)."""
+    if isinstance(upper, str):
+        return
+    if upper.n_points != lower.n_points:
+        raise GridMismatchError(
+            f"the upper profile has {upper.n_points} points and the lower {lower.n_points}; "
+            "both bodies must share one grid (resample or crop one of them)"
+        )
+    if abs(upper.dx - lower.dx) > UNIFORM_GRID_RTOL * lower.dx:
+        raise GridMismatchError(
+            f"grid spacings differ: upper dx = {upper.dx!r} µm, lower dx = {lower.dx!r} µm; "
+            "both bodies must share one grid (resample one of them)"
+        )
 
 
 def check_bodies(lower: Any, upper: Any) -> None:

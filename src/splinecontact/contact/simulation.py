@@ -17,6 +17,7 @@ from .geometry import check_bodies, check_positive, contact_geometry
 from .interaction import InteractionSettings
 from .kernel import run_loading
 from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
+from .streamed import STREAM_MIN_POINTS
 
 if TYPE_CHECKING:
     from .segments import Segment
@@ -231,6 +232,12 @@ def simulate(
     record_steps = _record_steps(record_contacts, steps)
 
     check_bodies(lower, upper)
+    if interaction is False and fits is None and lower.n_points >= STREAM_MIN_POINTS:
+        return _simulate_streamed(
+            lower, upper, record_steps, steps=steps, final_displacement=final_displacement,
+            final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+            mu0=mu0, alpha=alpha, x0=x0, law=law, diagnostics=diagnostics,
+        )  # fmt: skip
     fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
     if interaction is not False:
         return _simulate_interacting(
@@ -264,6 +271,31 @@ def simulate(
         final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
         mu0=mu0, alpha=alpha, x0=x0, extra=law_record(law),
     )  # fmt: skip
+
+
+def _simulate_streamed(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    record_steps: NDArray[np.int64],
+    *,
+    diagnostics: bool,
+    **arguments: Any,
+) -> SimulationResult:
+    """``simulate`` from ``STREAM_MIN_POINTS`` points: fits and placement in chunks, no array of
+    n values (:mod:`.streamed`; the same results to ≤ 1e−9 relative)."""
+    from .geometry import check_same_grid
+    from .streamed import simulate_streamed
+
+    check_same_grid(lower, upper)
+    result = simulate_streamed(
+        lower, upper if isinstance(upper, Profile) else None, record_steps=record_steps,
+        max_recorded=MAX_RECORDED_CONTACTS, **arguments,
+    )  # fmt: skip
+    if diagnostics:
+        from ..diagnostics import warn_simulation
+
+        warn_simulation(lower, upper, result.curves, alpha=arguments["alpha"], x0=arguments["x0"])
+    return result
 
 
 def _reach_radius(lower: Profile, fits: tuple[SplineFit, SplineFit | None]) -> float:

@@ -141,6 +141,16 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         sim["law"] = make_law(**law)
     # per-realization diagnostics would repeat once per realization (and from workers)
     sim["diagnostics"] = False
+    from ..contact.streamed import STREAM_MIN_POINTS, simulate_generated
+
+    if (
+        int(gen["n_points"]) >= STREAM_MIN_POINTS
+        and segments is None
+        and not getattr(sim.get("law"), "needs_radius", False)
+    ):  # generated, fitted and placed in chunks (the same results, no array of n values)
+        flat = parameters["contact_type"] != "rough-on-rough"
+        del sim["diagnostics"]
+        return simulate_generated(dimension, seed=seed, flat=flat, generator=gen, **sim)
     if parameters["contact_type"] == "rough-on-rough":
         lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
         return simulate(lower, upper, **sim)
