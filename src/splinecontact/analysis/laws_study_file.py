@@ -102,6 +102,10 @@ def _is_number(value: object) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+def _is_dimension(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and 1.0 <= value <= 2.0
+
+
 def _number(
     table: Mapping[str, Any],
     key: str,
@@ -182,9 +186,7 @@ def parse_laws_study(data: Mapping[str, Any]) -> LawsStudySpec:
         raise StudyConfigError(
             f"laws_study.{extra[0]} is not a key of [laws_study]; known: {', '.join(sorted(_KEYS))}"
         )
-    dims = _list(
-        table, "dimensions", lambda v: _is_number(v) and 1.0 <= v <= 2.0, "numbers in [1, 2]"
-    )
+    dims = _list(table, "dimensions", _is_dimension, "numbers in [1, 2]")
     seeds = _list(
         table, "seeds", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0,
         "whole numbers ≥ 0",

@@ -173,7 +173,8 @@ def register(app: typer.Typer) -> None:
             tmp.write_text(_means_table(ds), encoding="utf-8")
         studies = {str(law): ds.sel(law=law) for law in ds["law"].values}
         for name in LAWS_STUDY_VARIABLES:
-            fig = plot_laws_study(studies, name).figure
+            fig = plot_laws_study(studies, name).get_figure(root=True)
+            assert fig is not None
             with atomic_path(folder.file(f"{name}.png")) as tmp:
                 fig.savefig(tmp, dpi=150, format="png")
         lines = [f"{len(spec.laws)} laws × {spec.realizations} realizations -> {output}"]
