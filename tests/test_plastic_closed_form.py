@@ -69,3 +69,17 @@ def test_unloading_line_equals_its_closed_form(omega: float) -> None:
         assert width == pytest.approx(w_max * math.sqrt(fraction), rel=1e-12)
     below = pl.plastic_evaluate(0.5 * residual, R_EFF, E_STAR, SY, hardness, nu, state)
     assert below[:2] == (0.0, 0.0)
+
+
+@pytest.mark.parametrize(("nu", "hardness_ratio"), [(0.3, 2.8), (0.45, 2.8), (0.3, 4.0)])
+def test_slope_just_beyond_yield(nu: float, hardness_ratio: float) -> None:
+    # Continuous force, not slope: dF/dδ drops from (π/4)E* to (π/4)E* [1/2 + (H/p_mc − 1)/ln 54].
+    hardness = hardness_ratio * SY
+    d_c = pl.critical_interference(R_EFF, E_STAR, SY, nu)
+    p_mc = math.pi / 4.0 * pl.critical_pressure_coefficient(nu) * SY
+    h = 1e-7 * d_c
+    f1 = pl.plastic_loading(d_c + h, R_EFF, E_STAR, SY, hardness, nu)[0]
+    f2 = pl.plastic_loading(d_c + 2 * h, R_EFF, E_STAR, SY, hardness, nu)[0]
+    ratio = (f2 - f1) / h / (math.pi / 4.0 * E_STAR)
+    expected = min(0.5 + (hardness / p_mc - 1.0) / math.log(54.0), 1.0)
+    assert ratio == pytest.approx(expected, rel=1e-5)
