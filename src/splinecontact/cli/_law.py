@@ -148,9 +148,9 @@ def register(app: typer.Typer) -> None:
         """Pull-off force, work of separation, residual approach, dissipation and κ against D,
         one load–unload cycle per realization under each [[law]] (docs/contact-laws.md).
 
-        Writes laws_study.nc (every realization, with units), laws_study.csv (means and 95 %
-        half-widths) and one figure per variable. Progress goes to stderr (--quiet for none);
-        a bad file or output is one line, and nothing is written.
+        Writes laws_study.nc (every realization, with units), laws_study.csv (means and
+        confidence half-widths) and one figure per variable. Progress goes to stderr (--quiet
+        for none); a bad file or output is one line, and nothing is written.
         """
         from ..analysis import LAWS_STUDY_VARIABLES
         from ..analysis.laws_study_file import load_laws_study, run_laws_study
