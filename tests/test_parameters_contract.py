@@ -205,6 +205,9 @@ NOT_THE_MODEL_PARAMETER = {
     ("laws_study", "n_points"): "the contact-law sweep's own small default profile",
     ("laws_study", "length"): "the contact-law sweep's own small default profile",
     ("laws_study", "steps"): "steps of each branch of the contact-law cycle, not of a study",
+    ("LawsStudySpec", "n_points"): "the contact-law sweep's own small default profile",
+    ("LawsStudySpec", "length"): "the contact-law sweep's own small default profile",
+    ("LawsStudySpec", "steps"): "steps of each branch of the contact-law cycle, not of a study",
 }
 
 

@@ -9,6 +9,7 @@ dissipated energy) and with the κ of eq. 15 generalized to an adhesive pair
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -97,6 +98,7 @@ def laws_study(
     e_star: float = _MODEL_DEFAULTS["e_star"],
     fit_fraction: float = 0.3,
     confidence: float = 0.95,
+    progress: Callable[[int, int], None] | None = None,
 ) -> xr.Dataset:
     """Pull-off, work of separation, residual approach, dissipation and κ against D.
 
@@ -130,6 +132,8 @@ def laws_study(
         Load range of the κ fit (:func:`adhesive_kappa`) [1].
     confidence : float
         Level of the Student-t confidence interval of the ensemble mean [1].
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each realization [1] (nothing is printed).
 
     Returns
     -------
@@ -191,6 +195,8 @@ def laws_study(
             }
             for name, value in row.items():
                 values[name][i, j] = value
+            if progress is not None:
+                progress(i * len(seed_list) + j + 1, len(dims) * len(seed_list))
     coords = {"dimension": dims, "realization": np.arange(len(seed_list))}
     data: dict[str, Any] = {}
     for name, units in LAWS_STUDY_VARIABLES.items():

@@ -14,7 +14,7 @@ from typing import Annotated
 import typer
 
 from ..errors import SplineContactError
-from . import _analysis, _citation, _compare, _engine, _friction, _measured, _study
+from . import _analysis, _citation, _compare, _engine, _friction, _law, _measured, _study
 from ._citation import version_text
 
 __all__ = ["app", "main"]
@@ -57,7 +57,7 @@ def _root(
     """
 
 
-for _module in (_engine, _measured, _study, _analysis, _compare, _friction, _citation):
+for _module in (_engine, _measured, _study, _analysis, _compare, _friction, _law, _citation):
     _module.register(app)
 
 

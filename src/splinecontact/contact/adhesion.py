@@ -61,8 +61,10 @@ MILLINEWTON_PER_MICROMETRE_PER_JOULE_PER_SQUARE_METRE = 1e-3
 _PI = math.pi
 #: ln(2β) with β = e^{3/2}/2: the reference distance that makes Hertz F = (π/4)E*δ.
 _LOG_2BETA = 1.5
-#: State columns of JKR: the branch (0 apart, 2 in contact).
-N_STATE = 1
+#: State columns of JKR: the branch (0 apart, 2 in contact), then a memo of the contact's last
+#: evaluation (δ [µm], R_eff [µm], the branch it started from and the branch it gave), so that
+#: committing a step does not solve the contact again.
+N_STATE = 5
 
 
 def _check_w(value: object) -> float:

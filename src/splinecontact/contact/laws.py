@@ -6,8 +6,10 @@ force per unit thickness [mN/µm] and a contact half-width [µm] (the contact's 
 Both kernels (the monotone loading of :mod:`.kernel` and the load paths of :mod:`.path_kernel`)
 call the same compiled functions:
 
-* :func:`normal_law` ``(code, params, delta, r_eff, state, point) -> (force, width)``: pure (a
-  trial evaluation, e.g. while a force-controlled step solves for δ_N, changes nothing);
+* :func:`normal_law` ``(code, params, delta, r_eff, state, point) -> (force, width)``: a trial
+  evaluation (e.g. while a force-controlled step solves for δ_N) that changes no history; it
+  may leave a memo of a pure function of its inputs (JKR: the branch this δ, R_eff and branch
+  give; Maugis–Dugdale: the fold and the last root), which :func:`commit_law` reuses;
 * :func:`commit_law` ``(code, params, delta, r_eff, state, point) -> None``: called once per
   accepted contact when a step is committed; a history-dependent law updates ``state[point]``;
 * :func:`tangential_spring` ``(previous, increment, mu0, normal_force) -> (force, slipping,
@@ -276,7 +278,7 @@ def normal_law(
     r_eff : float
         Effective radius 2/(κ^u + κ^l) [µm].
     state : ndarray
-        History state, shape (n_points, n_state); read only.
+        History state, shape (n_points, n_state); only memos are written (no history).
     point : int
         Lower-body grid index of the contact.
     """
@@ -285,6 +287,12 @@ def normal_law(
     if code == _DMT:
         return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
     out = _history_law(code, params, delta, r_eff, state, point)
+    if code == _JKR and state.shape[1] >= 5:
+        # Memo of a pure function of (δ, R_eff, branch): commit_law reuses it.
+        state[point, 1] = out[3]
+        state[point, 2] = out[4]
+        state[point, 3] = out[5]
+        state[point, 4] = out[6]
     return out[0], out[1]
 
 
@@ -300,8 +308,9 @@ def _history_law(
     # (force, width, new state values) of the laws that keep a history.
     e_star = params[0]
     if code == _JKR:
-        f, width, branch = jkr_evaluate(delta, r_eff, e_star, params[1], state[point, 0])
-        return f, width, branch, 0.0, 0.0, 0.0, 0.0
+        before = state[point, 0]
+        f, width, branch = jkr_evaluate(delta, r_eff, e_star, params[1], before)
+        return f, width, branch, delta, r_eff, before, branch  # the branch, then the memo
     if code == _MD:
         return md_evaluate(delta, r_eff, e_star, params[1], params[2], state[point])
     f, width, d_max, f_max, b_max = plastic_evaluate(
@@ -371,6 +380,15 @@ def commit_law(
     """Update the history ``state[point]`` of an accepted contact when its step is committed."""
     if code == HERTZ or code == _DMT:
         return  # no history
+    if (
+        code == _JKR
+        and state.shape[1] >= 5
+        and state[point, 1] == delta
+        and state[point, 2] == r_eff
+        and state[point, 3] == state[point, 0]
+    ):
+        state[point, 0] = state[point, 4]  # this δ, R_eff and branch were just evaluated
+        return
     if code == _MD and state[point, 5] == delta and state[point, 6] == r_eff:
         # the trial evaluation of this step (same δ and R_eff, same committed state) is kept
         state[point, 0] = state[point, 7]

@@ -58,6 +58,16 @@ def _mt_minus_asinh(t: float) -> float:
 
 
 @numba.njit(cache=True, nogil=True)
+def _mt_minus_asinh_of(t: float, m: float, asinh_t: float) -> float:
+    # _mt_minus_asinh(t) given m = √(1 + t²) and asinh t, computed as it computes them (the
+    # same operations: bit-identical), so that the branch evaluations call each once.
+    if t < 1e-3:
+        t2 = t * t
+        return t * t2 * (2.0 / 3.0 - t2 / 5.0 + 3.0 * t2 * t2 / 28.0)
+    return m * t - asinh_t
+
+
+@numba.njit(cache=True, nogil=True)
 def md_gap_residual(
     b: float, t: float, r_eff: float, e_star: float, w: float, sigma0: float
 ) -> float:
@@ -181,7 +191,7 @@ def _md_of_t(
     m = math.sqrt(1.0 + t * t)
     log_m = 0.5 * math.log1p(t * t)
     asinh_t = math.asinh(t)
-    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_a = _mt_minus_asinh_of(t, m, asinh_t) / (2.0 * r)
     big_b = a_k * (t * asinh_t - m * log_m)
     b = 2.0 * h0 / (big_b + math.sqrt(big_b * big_b + 4.0 * big_a * h0))
     delta = b * b / r + a_k * b * (m * asinh_t - t * (2.5 + log_m))
@@ -204,7 +214,7 @@ def _md_of_t_d(
     m = math.sqrt(1.0 + t * t)
     log_m = 0.5 * math.log1p(t * t)
     asinh_t = math.asinh(t)
-    big_a = _mt_minus_asinh(t) / (2.0 * r)
+    big_a = _mt_minus_asinh_of(t, m, asinh_t) / (2.0 * r)
     big_b = a_k * (t * asinh_t - m * log_m)
     root = math.sqrt(big_b * big_b + 4.0 * big_a * h0)
     b = 2.0 * h0 / (big_b + root)
