@@ -18,6 +18,7 @@ import math
 
 import numba
 import numpy as np
+import scipy.fft as sfft
 from numba.typed import List
 from numpy.typing import NDArray
 
@@ -30,6 +31,7 @@ from .halfplane import (
     _pk_direction,
     _pk_update,
     _spread,
+    mesh_kernel,
 )
 from .interaction import UPLIFT_FACTOR, WIDTH_TOLERANCE, _accept
 from .punch import _profile_widths
@@ -41,8 +43,8 @@ _QUARTER_PI = 0.25 * math.pi
 #: Conjugate-gradient iterations per solve (as :mod:`.halfplane`).
 _MAX_INNER = 10_000
 
-#: Entries per mesh level in the kernel cache: mesh kernel, spectrum (re, im), twiddles (cos, sin).
-_PER_LEVEL = 5
+#: Entries per mesh level in the kernel cache: mesh kernel, its spectrum.
+_PER_LEVEL = 2
 
 #: Smallest mesh: 2**_MIN_LEVEL cells.
 _MIN_LEVEL = 6
@@ -57,47 +59,7 @@ def mesh_cache(max_cells: int) -> List:  # type: ignore[type-arg]
     return cache
 
 
-@numba.njit(cache=True, nogil=True)
-def _fft(
-    re: NDArray[np.float64],
-    im: NDArray[np.float64],
-    cos_t: NDArray[np.float64],
-    sin_t: NDArray[np.float64],
-    inverse: bool,
-) -> None:  # pragma: no cover - compiled
-    """In-place radix-2 complex FFT (forward e^{−2πikn/N}; inverse unscaled e^{+2πikn/N})."""
-    n = re.size
-    j = 0
-    for i in range(1, n):
-        bit = n >> 1
-        while j & bit:
-            j ^= bit
-            bit >>= 1
-        j |= bit
-        if i < j:
-            re[i], re[j] = re[j], re[i]
-            im[i], im[j] = im[j], im[i]
-    sign = 1.0 if inverse else -1.0
-    length = 2
-    while length <= n:
-        half = length >> 1
-        stride = n // length
-        for first in range(0, n, length):
-            for k in range(half):
-                wr = cos_t[k * stride]
-                wi = sign * sin_t[k * stride]
-                a = first + k
-                b = a + half
-                tr = wr * re[b] - wi * im[b]
-                ti = wr * im[b] + wi * re[b]
-                re[b] = re[a] - tr
-                im[b] = im[a] - ti
-                re[a] += tr
-                im[a] += ti
-        length <<= 1
-
-
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True)
 def _level(cache, cells: int, period: float, e_star: float) -> int:  # type: ignore[no-untyped-def]  # pragma: no cover
     """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
 
@@ -109,58 +71,29 @@ def _level(cache, cells: int, period: float, e_star: float) -> int:  # type: ign
         level += 1
     base = level * _PER_LEVEL
     if cache[base].size == 0:
-        h = period / cells
-        c = 2.0 / (math.pi * e_star)
-        green = np.empty(cells)
-        for m in range(cells):
-            mm = 0.5 if m == 0 else float(m)
-            s = math.sin(math.pi * (mm * h) / period)
-            g = -c * math.log(abs(2.0 * s))
-            curvature = c * (math.pi / period) ** 2 / s**2
-            green[m] = g - (h**2 / 6.0) * curvature
-        half = cells // 2
-        cos_t = np.empty(half)
-        sin_t = np.empty(half)
-        for k in range(half):
-            angle = 2.0 * math.pi * k / cells
-            cos_t[k] = math.cos(angle)
-            sin_t[k] = math.sin(angle)
-        spec_re = green.copy()
-        spec_im = np.zeros(cells)
-        _fft(spec_re, spec_im, cos_t, sin_t, False)
+        with numba.objmode(green="float64[::1]", spectrum="float64[::1]"):
+            green = mesh_kernel(cells, period, e_star)
+            spectrum = np.ascontiguousarray(sfft.rfft(green)).view(np.float64)
         cache[base] = green
-        cache[base + 1] = spec_re
-        cache[base + 2] = spec_im
-        cache[base + 3] = cos_t
-        cache[base + 4] = sin_t
+        cache[base + 1] = spectrum
     return base
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True)
 def _convolve(
-    rho: NDArray[np.float64],
-    spec_re: NDArray[np.float64],
-    spec_im: NDArray[np.float64],
-    cos_t: NDArray[np.float64],
-    sin_t: NDArray[np.float64],
+    rho: NDArray[np.float64], spectrum: NDArray[np.float64]
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Periodic convolution of the mesh loads with the mesh kernel (its spectrum given)."""
+    """Periodic convolution of the mesh loads with the mesh kernel (its rfft ``spectrum``,
+    stored as interleaved real and imaginary parts), by scipy's real FFT."""
     n = rho.size
-    re = rho.copy()
-    im = np.zeros(n)
-    _fft(re, im, cos_t, sin_t, False)
-    for k in range(n):
-        r = re[k] * spec_re[k] - im[k] * spec_im[k]
-        i = re[k] * spec_im[k] + im[k] * spec_re[k]
-        re[k] = r
-        im[k] = i
-    _fft(re, im, cos_t, sin_t, True)
-    for k in range(n):
-        re[k] /= n
-    return re
+    with numba.objmode(phi="float64[::1]"):
+        phi = np.asarray(
+            sfft.irfft(spectrum.view(np.complex128) * sfft.rfft(rho), n), dtype=np.float64
+        )
+    return phi
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True)
 def _apply(  # type: ignore[no-untyped-def]
     cache,
     base: int,
@@ -179,12 +112,12 @@ def _apply(  # type: ignore[no-untyped-def]
     """(local·P + e_z w(P) at the contacts, the mesh displacement)."""
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
-    phi = _convolve(rho, cache[base + 1], cache[base + 2], cache[base + 3], cache[base + 4])
+    phi = _convolve(rho, cache[base + 1])
     u = _collect(phi, pos, n, h, start, src, coef, q, load, ez, local)
     return u, phi
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True)
 def _pk_solve(  # type: ignore[no-untyped-def]
     cache,
     base: int,
@@ -298,7 +231,7 @@ def _union_length(
     return length, pieces + 1
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True)
 def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
     first: int,
     stop: int,
