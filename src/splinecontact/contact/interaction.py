@@ -124,7 +124,13 @@ class InteractionSettings:
         displacement [1] (summits lifted by the surface's rise can touch).
     width_iterations : int
         Most width updates per step [1] (fewer once the widths change by less than
-        ``WIDTH_TOLERANCE``); 1 lets the widths lag one step behind the loads.
+        ``width_tol``); 1 lets the widths lag one step behind the loads.
+    width_tol : float
+        Relative change of the widths and centres at which the width updates of a step
+        stop [1] (default ``WIDTH_TOLERANCE``).
+    stop_force : float or None
+        End the loading at the first step whose normal force reaches this [mN/µm]; the
+        curves end at that step (``None``: run every step).
     """
 
     periodic: bool = False
@@ -133,6 +139,8 @@ class InteractionSettings:
     width: str = "profile"
     width_iterations: int = 1
     reach_fraction: float = DEFAULT_REACH
+    width_tol: float = WIDTH_TOLERANCE
+    stop_force: float | None = None
 
 
 # --- the per-step geometric pass (SAD eqs. 7–10, Table 1, eq. 9) ----------------------------
@@ -381,6 +389,19 @@ def interacting_loading(
         raise ParameterError(
             f"width_iterations must be an integer in 1…100, got {settings.width_iterations!r}"
         )
+    if isinstance(settings.width_tol, bool) or not (
+        isinstance(settings.width_tol, float) and 0.0 < settings.width_tol < 1.0
+    ):
+        raise ParameterError(f"width_tol must be in (0, 1), got {settings.width_tol!r}")
+    stop_force = settings.stop_force
+    if stop_force is not None and (
+        isinstance(stop_force, bool)
+        or not isinstance(stop_force, (int, float))
+        or not (math.isfinite(stop_force) and stop_force > 0.0)
+    ):
+        raise ParameterError(
+            f"stop_force must be a finite force > 0 [mN/µm] or None, got {stop_force!r}"
+        )
     if settings.width not in ("profile", "hertz"):
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
     slope = None
@@ -428,11 +449,14 @@ def interacting_loading(
     stops = [*(int(s) + 1 for s in np.flatnonzero(record)), n_steps]
     first = 0
     for stop in stops:
+        if first >= n_steps:
+            break  # stop_force reached
         if stop <= first:
             continue
-        count, failed, residual = run_steps(
+        count, failed, residual, stopped = run_steps(
             first, stop, displacement, gap0, reach, point_x, gap0, *columns, dx, n * dx,
-            float(e_star), float(g_star), float(mu0), float(settings.tol),
+            float(e_star), float(g_star), float(mu0), float(settings.tol), settings.width_tol,
+            float(stop_force or 0.0),
             int(settings.width_iterations), not settings.periodic, op.mirror_axis, period,
             cells or 0, op.max_cells, slope is not None,
             dummy if widths.slope is None else widths.slope,
@@ -446,6 +470,11 @@ def interacting_loading(
                 f"at step {failed} (residual {residual:.3g} > tol {settings.tol:.3g}); raise "
                 "tol or use more steps"
             )
+        if stopped >= 0:
+            n_steps = stop = stopped + 1
+            displacement = displacement[:n_steps]
+            sums = sums[:, :n_steps]
+            counts = counts[:, :n_steps]
         first = stop
         step = stop - 1
         if record[step] and count > 0:

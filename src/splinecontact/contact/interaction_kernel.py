@@ -33,7 +33,7 @@ from .halfplane import (
     _spread,
     mesh_kernel,
 )
-from .interaction import UPLIFT_FACTOR, WIDTH_TOLERANCE, _accept
+from .interaction import UPLIFT_FACTOR, _accept
 from .punch import _profile_widths
 
 __all__ = ["mesh_cache", "run_steps"]
@@ -252,6 +252,8 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
     g_star: float,
     mu0: float,
     tol: float,
+    width_tol: float,
+    stop_force: float,
     outer: int,
     mirror: bool,
     mirror_axis: float,
@@ -287,15 +289,17 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
     out_ft: NDArray[np.float64],
     curves: NDArray[np.float64],
     counts: NDArray[np.int64],
-) -> tuple[int, int, float]:  # pragma: no cover - compiled
+) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
     """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
 
     ``state`` holds (last increment, uplift margin, mesh spacing of ``field``, cells of
     ``field``, contacts of the last step); the per-contact arrays are the state of
     :func:`.interaction.interacting_loading`. ``curves`` rows: normal force, tangential force,
     contact area, normal-force normal and tangential parts, coalesced length; ``counts`` rows:
-    contacts, tilted contacts, patches, CG iterations, reach exceeded. Returns (count of the
-    last step's accepted contacts, step that failed to converge or −1, its residual).
+    contacts, tilted contacts, patches, CG iterations, reach exceeded. The loop ends after the
+    first step whose normal force reaches ``stop_force`` [mN/µm] (> 0; 0: never). Returns
+    (count of the last step's accepted contacts, step that failed to converge or −1, its
+    residual, the step at which ``stop_force`` was reached or −1).
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -404,7 +408,7 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
                 start, src, coef,
             )  # fmt: skip
             if iterations < 0:
-                return count, step, residual
+                return count, step, residual, -1
             total += iterations
             a_new = _hertz_width(load, r_eff, e_star, floor)
             c_new = np.zeros(count)
@@ -422,7 +426,7 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
             for k in range(count):
                 if load[k] > 0.0:
                     anyload = True
-                if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > WIDTH_TOLERANCE * max(
+                if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(
                     a[k], floor
                 ):
                     done = False
@@ -489,4 +493,6 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
         counts[0, step] = n_on
         counts[1, step] = n_tilted
         counts[2, step] = pieces
-    return count, -1, 0.0
+        if stop_force > 0.0 and f_norm >= stop_force:
+            return count, -1, 0.0, step
+    return count, -1, 0.0, -1
