@@ -67,12 +67,11 @@ from .geometry import ContactGeometry, contact_geometry
 from .halfplane import (
     NEAR_CELLS,
     _Operator,
-    _pk_solve,
     pair_coefficient,
     periodic_green,
     self_coefficient,
 )
-from .punch import _hertz_width, _Widths
+from .punch import _Widths
 
 __all__ = [
     "DEFAULT_INTERACTION_TOLERANCE",
@@ -223,68 +222,6 @@ def _accept(
     return count
 
 
-def solve_contacts(
-    op: _Operator,
-    x: NDArray[np.float64],
-    delta: NDArray[np.float64],
-    ez: NDArray[np.float64],
-    reff: NDArray[np.float64],
-    initial: NDArray[np.float64],
-    b_start: NDArray[np.float64],
-    c_start: NDArray[np.float64],
-    e_star: float,
-    widths: _Widths,
-    tol: float,
-    outer: int = 1,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
-    """Loads P_i [mN/µm], half-widths and centre shifts [µm] of the contacts at one step.
-
-    The widths and centres are frozen in each constrained-CG solve. Contacts loaded at the
-    previous step start from their previous width and centre, new ones from the Hertz width of
-    SAD's independent force; after each solve the widths are updated from the loads, at most
-    ``outer`` times (1: widths lag one step behind the loads, which changes them by one step's
-    increment).
-    """
-    floor = widths.floor
-    load = initial.copy()
-    fresh = b_start <= 0.0
-    a = np.where(
-        fresh,
-        _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff, e_star, floor),
-        b_start,
-    )
-    c = np.where(fresh, 0.0, c_start)
-    total = 0
-    for _ in range(outer):
-        op.prepare(x + c, a, ez)
-        load, iterations = _pk_solve(op, delta, load, tol)
-        total += iterations
-        a_new, c_new = widths(load, reff, x, a, c, op)
-        if not np.any(load > 0) or np.all(
-            np.abs(a_new - a) + np.abs(c_new - c) <= WIDTH_TOLERANCE * np.maximum(a, floor)
-        ):
-            return load, a_new, c_new, total
-        a, c = a_new, c_new
-    return load, a, c, total
-
-
-def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
-    """Length of the union of intervals [lo, hi] and the number of its connected pieces."""
-    if lo.size == 0:
-        return 0.0, 0
-    order = np.argsort(lo, kind="stable")
-    lo = lo[order]
-    hi = hi[order]
-    reach = np.maximum.accumulate(hi)
-    new = np.empty(lo.size, dtype=bool)
-    new[0] = True
-    new[1:] = lo[1:] > reach[:-1]
-    starts = np.flatnonzero(new)
-    ends = np.append(starts[1:], lo.size) - 1
-    length = float(np.sum(reach[ends] - lo[starts]))
-    return length, int(starts.size)
-
-
 def extended_geometry(
     lower: Profile,
     upper: Profile | Literal["flat"],
@@ -414,6 +351,8 @@ def interacting_loading(
         ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
     from .interaction_kernel import _MAX_INNER, mesh_cache, run_steps
 
+    kernel: Any = run_steps  # compiled; its many arguments are checked by numba
+
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
     n_cand = geometry.gap0.size
@@ -441,7 +380,7 @@ def interacting_loading(
     last_j = np.zeros(n_cand, dtype=np.int64)
     idx = np.empty(n_cand, dtype=np.int64)
     scratch = [np.empty(n_cand) for _ in range(9)]
-    delta, ex, ez, reff, offset, offset_z, out_x, out_load, out_ft = scratch
+    _delta, ex, ez, reff, _offset, offset_z, out_x, out_load, out_ft = scratch
     sums = np.zeros((6, n_steps))
     counts = np.zeros((5, n_steps), dtype=np.int64)
     dummy = np.zeros(1)
@@ -453,7 +392,7 @@ def interacting_loading(
             break  # stop_force reached
         if stop <= first:
             continue
-        count, failed, residual, stopped = run_steps(
+        count, failed, residual, stopped = kernel(
             first, stop, displacement, gap0, reach, point_x, gap0, *columns, dx, n * dx,
             float(e_star), float(g_star), float(mu0), float(settings.tol), settings.width_tol,
             float(stop_force or 0.0),

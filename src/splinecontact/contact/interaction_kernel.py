@@ -50,7 +50,7 @@ _PER_LEVEL = 2
 _MIN_LEVEL = 6
 
 
-def mesh_cache(max_cells: int) -> List:  # type: ignore[type-arg]
+def mesh_cache(max_cells: int) -> List:
     """An empty kernel cache for meshes of 64 … ``max_cells`` cells (filled on first use)."""
     levels = int(math.log2(max_cells)) + 1
     cache = List()
@@ -60,7 +60,7 @@ def mesh_cache(max_cells: int) -> List:  # type: ignore[type-arg]
 
 
 @numba.njit(cache=True)
-def _level(cache, cells: int, period: float, e_star: float) -> int:  # type: ignore[no-untyped-def]  # pragma: no cover
+def _level(cache, cells: int, period: float, e_star: float) -> int:  # pragma: no cover
     """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
 
     The mesh kernel is the periodic Green function at the cell offsets minus the mean
@@ -94,7 +94,7 @@ def _convolve(
 
 
 @numba.njit(cache=True)
-def _apply(  # type: ignore[no-untyped-def]
+def _apply(
     cache,
     base: int,
     load: NDArray[np.float64],
@@ -118,7 +118,7 @@ def _apply(  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _pk_solve(  # type: ignore[no-untyped-def]
+def _pk_solve(
     cache,
     base: int,
     delta: NDArray[np.float64],
@@ -155,9 +155,7 @@ def _pk_solve(  # type: ignore[no-untyped-def]
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, _ = _apply(
-        cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-    )
+    cp, _ = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -232,7 +230,7 @@ def _union_length(
 
 
 @numba.njit(cache=True)
-def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
+def run_steps(
     first: int,
     stop: int,
     displacement: NDArray[np.float64],
@@ -426,9 +424,7 @@ def run_steps(  # type: ignore[no-untyped-def]  # noqa: PLR0913, PLR0915
             for k in range(count):
                 if load[k] > 0.0:
                     anyload = True
-                if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(
-                    a[k], floor
-                ):
+                if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(a[k], floor):
                     done = False
             a = a_new
             cc = c_new
