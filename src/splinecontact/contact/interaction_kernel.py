@@ -135,15 +135,17 @@ def _pk_solve(
     start: NDArray[np.int64],
     src: NDArray[np.int64],
     coef: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], int, float]:  # pragma: no cover - compiled
+) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
     """Constrained conjugate gradients at contact level (as :func:`.halfplane._pk_solve`).
 
-    Returns (P, iterations, residual); iterations −1 when the solve did not converge.
+    Returns (P, iterations, residual, mesh displacement of P); iterations −1 when the solve
+    did not converge. A converged P was the last load the operator was applied to, so the mesh
+    displacement of that application is the surface displacement of the step.
     """
     n = delta.size
     scale = delta.max()
     if scale <= 0.0:
-        return np.zeros(n), 0, 0.0
+        return np.zeros(n), 0, 0.0, np.zeros(0)
     p = np.maximum(load, 0.0)
     t = np.zeros(n)
     h = np.empty(n)
@@ -155,7 +157,7 @@ def _pk_solve(
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, _ = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+    cp, phi = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -164,8 +166,8 @@ def _pk_solve(
         )
         if residual <= tol:
             if exact:
-                return p, iteration, residual
-            cp, _ = _apply(
+                return p, iteration, residual, phi
+            cp, phi = _apply(
                 cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
             )
             exact = True
@@ -179,7 +181,7 @@ def _pk_solve(
             step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
-            cp, _ = _apply(
+            cp, phi = _apply(
                 cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
             )
             exact = True
@@ -188,11 +190,11 @@ def _pk_solve(
         r, _ = _apply(cache, base, t, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
         conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
         if not linear:
-            cp, _ = _apply(
+            cp, phi = _apply(
                 cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
             )
         exact = not linear
-    return p, -1, residual
+    return p, -1, residual, phi
 
 
 @numba.njit(cache=True, nogil=True)
@@ -369,6 +371,7 @@ def run_steps(
             a[k] = a_fresh[k] if fresh else b_start[k]
             cc[k] = 0.0 if fresh else c_start[k]
         total = 0
+        phi = np.zeros(0)
         sources = 2 * count if mirror else count
         cells = fixed_cells
         if fixed_cells <= 0:
@@ -401,7 +404,7 @@ def run_steps(
             start, src, coef = _near_pairs(
                 pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
             )
-            load, iterations, residual = _pk_solve(
+            load, iterations, residual, phi = _pk_solve(
                 cache, base, dl, load, tol, e_z, a, period, c0, pos, owner, ez_src, h_mesh,
                 start, src, coef,
             )  # fmt: skip
@@ -437,10 +440,7 @@ def run_steps(
             shift_all[j[k]] = cc[k] if on[k] else 0.0
             x[k] += cc[k]
         if np.any(on):
-            ones = np.ones(count)
-            _, phi = _apply(
-                cache, base, load, 0.0, ones, pos, owner, ez_src, count, h_mesh, start, src, coef
-            )
+            # the mesh displacement of the converged loads (the solve's last application)
             field[: phi.size] = phi
             state[2] = h_mesh
             state[3] = phi.size
