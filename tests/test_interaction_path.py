@@ -138,3 +138,27 @@ def test_bad_settings_are_refused(profile, field, value) -> None:  # type: ignor
     settings = InteractionSettings(**{field: value})
     with pytest.raises(ParameterError, match=field):
         simulate(profile, "flat", steps=5, interaction=settings, diagnostics=False)
+
+
+def test_single_asperity_unloading_keeps_the_hertz_width() -> None:
+    """One circular asperity loaded and unloaded: on both branches its coupled contact width
+    is Hertz's 2√(4PR/(πE*)) at its own force (SAD's single contact is exact there)."""
+    from splinecontact import Profile
+
+    n, dx, radius = 2048, 0.01, 200.0
+    x = np.arange(n) * dx
+    s = np.clip(x - n // 2 * dx, -radius, radius)
+    profile = Profile(x, -(s * s) / (radius + np.sqrt(radius * radius - s * s)))
+    converged = InteractionSettings(width_iterations=100, width_tol=1e-10, tol=1e-12)
+    result = simulate(
+        profile, "flat", diagnostics=False, interaction=converged,
+        path=[Segment(normal=4e-3, steps=40), Segment(normal=1e-3, steps=30)],
+    )  # fmt: skip
+    steps = np.array([20, 40, 55, 70])
+    force = result.normal_force[steps]
+    assert np.all(result.n_contacts[steps] == 1)
+    hertz = 2.0 * np.sqrt(4.0 * force * radius / (np.pi * E_STAR))
+    np.testing.assert_allclose(result.coalesced_contact_length[steps], hertz, rtol=2e-3)
+    # unloading to δ_N = 1e-3 lands where loading passed it (step 10), to the tolerance of
+    # the punch widths (their load matches to 1e-6, from a start that depends on the path)
+    np.testing.assert_allclose(result.normal_force[70], result.normal_force[10], rtol=1e-6)
