@@ -291,7 +291,9 @@ def test_simulate_interaction_refuses_what_it_does_not_support() -> None:
     with pytest.raises(ParameterError, match="interaction"):
         simulate(profile, "flat", steps=5, interaction="yes")  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match="load paths"):
-        simulate(profile, "flat", interaction=True, path=[Segment(normal=1e-3, steps=5)])
+        simulate(
+            profile, "flat", interaction=True, path=[Segment(normal=1e-3, tangential=1e-3, steps=5)]
+        )
 
 
 @pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")

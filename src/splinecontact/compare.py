@@ -217,8 +217,9 @@ def compare_profiles(
         Called with one line of text before SAD and after each BEM force.
     interaction : bool
         Also run interacting SAD (``simulate(..., interaction=True)``) over
-        ``INTERACTING_TRAVEL`` × the displacement and report it at the same forces (the
-        ``int_*`` columns; NaN beyond its largest force). ``False`` leaves them NaN.
+        ``INTERACTING_TRAVEL`` × the displacement, ended at the first step whose force reaches
+        the largest compared force, and report it at the same forces (the ``int_*`` columns;
+        NaN beyond its largest force). ``False`` leaves them NaN.
 
     Returns
     -------
@@ -267,14 +268,6 @@ def compare_profiles(
         alpha=alpha,
         x0=x0,
     )
-    coupled = None
-    if interaction:
-        say(f"interacting SAD: {INTERACTING_TRAVEL * steps} steps on {n} points")
-        travel = float(result.displacement[-1]) * INTERACTING_TRAVEL
-        coupled = simulate(
-            lower, upper, steps=INTERACTING_TRAVEL * steps, final_displacement=travel,
-            e_star=e_star, alpha=alpha, x0=x0, interaction=True, diagnostics=False,
-        )  # fmt: skip
     composite = fit_spline(lower, alpha=alpha, x0=x0).f
     if not isinstance(upper, str):
         composite = composite + fit_spline(upper, alpha=alpha, x0=x0).f
@@ -350,6 +343,25 @@ def compare_profiles(
     path = bem.BEMPath(tuple(solved), problem.e_star, problem.dx, problem.n_points, float(tol))
     idx = np.asarray(keep, dtype=np.int64)
     forces = force_curve[idx]
+    coupled = None
+    if interaction:
+        # up to INTERACTING_TRAVEL × SAD's displacement at SAD's increment, ended at the first
+        # step whose force reaches the largest compared force (beyond it the coupled contacts
+        # head for full contact, where every step costs a dense solve)
+        from .contact import InteractionSettings
+
+        say(f"interacting SAD: ≤ {INTERACTING_TRAVEL * steps} steps on {n} points")
+        t1 = time.perf_counter()
+        travel = float(result.displacement[-1]) * INTERACTING_TRAVEL
+        coupled = simulate(
+            lower, upper, steps=INTERACTING_TRAVEL * steps, final_displacement=travel,
+            e_star=e_star, alpha=alpha, x0=x0, diagnostics=False,
+            interaction=InteractionSettings(stop_force=float(forces.max())),
+        )  # fmt: skip
+        say(
+            f"interacting SAD done in {time.perf_counter() - t1:.1f} s "
+            f"({coupled.displacement.size - 1} steps)"
+        )
 
     bem_len = np.empty(idx.size)
     bem_sub = np.empty(idx.size)

@@ -106,8 +106,8 @@ def register(app: typer.Typer) -> None:
             typer.Option(
                 "--interaction/--no-interaction",
                 help="Also run interacting SAD (contacts coupled through the half-plane) and "
-                "report it against the exact solution (int_* columns). Can take minutes on "
-                "measured profiles with many contacts (docs/accuracy.md).",
+                "report it against the exact solution (int_* columns); it runs up to the "
+                "largest compared force (docs/accuracy.md).",
             ),
         ] = False,
         quiet: QuietOpt = False,

@@ -259,6 +259,22 @@ def _gather(
     return u
 
 
+def mesh_kernel(cells: int, period: float, e_star: float) -> NDArray[np.float64]:
+    """Mesh Green function [µm per mN/µm] at the offsets of ``cells`` cells over ``period`` [µm].
+
+    The periodic Green function at the cell offsets, minus the mean smoothing h²/6 · G″ of
+    linear spreading and reading (each smooths the kernel by h²/12 · G″ on average over the
+    positions in a cell); the self cell takes any finite value (near pairs are corrected).
+    """
+    h = period / cells
+    m = np.arange(cells, dtype=np.float64)
+    m[0] = 0.5
+    green = np.asarray(periodic_green(m * h, period, e_star), dtype=np.float64)
+    c = 2.0 / (math.pi * e_star)
+    curvature = c * (math.pi / period) ** 2 / np.sin(math.pi * m * h / period) ** 2
+    return np.asarray(green - (h**2 / 6.0) * curvature, dtype=np.float64)
+
+
 class _Operator:
     """Displacement at the contacts caused by contact loads: mesh far field + exact near field."""
 
@@ -285,16 +301,7 @@ class _Operator:
     def _use(self, cells: int) -> None:
         """Switch to a mesh of ``cells`` cells (kernels cached per size)."""
         if cells not in self._meshes:
-            h = self.period / cells
-            m = np.arange(cells, dtype=np.float64)
-            m[0] = 0.5  # the self cell: any finite value (near pairs are corrected exactly)
-            green = np.asarray(periodic_green(m * h, self.period, self.e_star), dtype=np.float64)
-            # linear spreading and reading each smooth the kernel by h²/12 · G″ on average over
-            # the positions in a cell: take that mean smoothing out of the mesh kernel
-            curvature = (
-                self.c * (math.pi / self.period) ** 2 / np.sin(math.pi * m * h / self.period) ** 2
-            )
-            mesh_green = green - (h**2 / 6.0) * curvature
+            mesh_green = mesh_kernel(cells, self.period, self.e_star)
             self._meshes[cells] = (mesh_green, sfft.rfft(mesh_green))
         self.cells = cells
         self.h = self.period / cells

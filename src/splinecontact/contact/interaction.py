@@ -59,7 +59,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
+from ..errors import NoConvergenceError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
@@ -67,12 +67,11 @@ from .geometry import ContactGeometry, contact_geometry
 from .halfplane import (
     NEAR_CELLS,
     _Operator,
-    _pk_solve,
     pair_coefficient,
     periodic_green,
     self_coefficient,
 )
-from .punch import _hertz_width, _Widths
+from .punch import _Widths
 
 __all__ = [
     "DEFAULT_INTERACTION_TOLERANCE",
@@ -124,7 +123,13 @@ class InteractionSettings:
         displacement [1] (summits lifted by the surface's rise can touch).
     width_iterations : int
         Most width updates per step [1] (fewer once the widths change by less than
-        ``WIDTH_TOLERANCE``); 1 lets the widths lag one step behind the loads.
+        ``width_tol``); 1 lets the widths lag one step behind the loads.
+    width_tol : float
+        Relative change of the widths and centres at which the width updates of a step
+        stop [1] (default ``WIDTH_TOLERANCE``).
+    stop_force : float or None
+        End the loading at the first step whose normal force reaches this [mN/µm]; the
+        curves end at that step (``None``: run every step).
     """
 
     periodic: bool = False
@@ -133,6 +138,8 @@ class InteractionSettings:
     width: str = "profile"
     width_iterations: int = 1
     reach_fraction: float = DEFAULT_REACH
+    width_tol: float = WIDTH_TOLERANCE
+    stop_force: float | None = None
 
 
 # --- the per-step geometric pass (SAD eqs. 7–10, Table 1, eq. 9) ----------------------------
@@ -213,68 +220,6 @@ def _accept(
         ) / (2.0 * y_norm)
         count += 1
     return count
-
-
-def solve_contacts(
-    op: _Operator,
-    x: NDArray[np.float64],
-    delta: NDArray[np.float64],
-    ez: NDArray[np.float64],
-    reff: NDArray[np.float64],
-    initial: NDArray[np.float64],
-    b_start: NDArray[np.float64],
-    c_start: NDArray[np.float64],
-    e_star: float,
-    widths: _Widths,
-    tol: float,
-    outer: int = 1,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
-    """Loads P_i [mN/µm], half-widths and centre shifts [µm] of the contacts at one step.
-
-    The widths and centres are frozen in each constrained-CG solve. Contacts loaded at the
-    previous step start from their previous width and centre, new ones from the Hertz width of
-    SAD's independent force; after each solve the widths are updated from the loads, at most
-    ``outer`` times (1: widths lag one step behind the loads, which changes them by one step's
-    increment).
-    """
-    floor = widths.floor
-    load = initial.copy()
-    fresh = b_start <= 0.0
-    a = np.where(
-        fresh,
-        _hertz_width(_QUARTER_PI * e_star * np.clip(delta, 0.0, None), reff, e_star, floor),
-        b_start,
-    )
-    c = np.where(fresh, 0.0, c_start)
-    total = 0
-    for _ in range(outer):
-        op.prepare(x + c, a, ez)
-        load, iterations = _pk_solve(op, delta, load, tol)
-        total += iterations
-        a_new, c_new = widths(load, reff, x, a, c, op)
-        if not np.any(load > 0) or np.all(
-            np.abs(a_new - a) + np.abs(c_new - c) <= WIDTH_TOLERANCE * np.maximum(a, floor)
-        ):
-            return load, a_new, c_new, total
-        a, c = a_new, c_new
-    return load, a, c, total
-
-
-def _union_length(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> tuple[float, int]:
-    """Length of the union of intervals [lo, hi] and the number of its connected pieces."""
-    if lo.size == 0:
-        return 0.0, 0
-    order = np.argsort(lo, kind="stable")
-    lo = lo[order]
-    hi = hi[order]
-    reach = np.maximum.accumulate(hi)
-    new = np.empty(lo.size, dtype=bool)
-    new[0] = True
-    new[1:] = lo[1:] > reach[:-1]
-    starts = np.flatnonzero(new)
-    ends = np.append(starts[1:], lo.size) - 1
-    length = float(np.sum(reach[ends] - lo[starts]))
-    return length, int(starts.size)
 
 
 def extended_geometry(
@@ -381,6 +326,19 @@ def interacting_loading(
         raise ParameterError(
             f"width_iterations must be an integer in 1…100, got {settings.width_iterations!r}"
         )
+    if isinstance(settings.width_tol, bool) or not (
+        isinstance(settings.width_tol, float) and 0.0 < settings.width_tol < 1.0
+    ):
+        raise ParameterError(f"width_tol must be in (0, 1), got {settings.width_tol!r}")
+    stop_force = settings.stop_force
+    if stop_force is not None and (
+        isinstance(stop_force, bool)
+        or not isinstance(stop_force, (int, float))
+        or not (math.isfinite(stop_force) and stop_force > 0.0)
+    ):
+        raise ParameterError(
+            f"stop_force must be a finite force > 0 [mN/µm] or None, got {stop_force!r}"
+        )
     if settings.width not in ("profile", "hertz"):
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
     slope = None
@@ -391,27 +349,91 @@ def interacting_loading(
         slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
             geometry.n_z
         ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
-    widths = _Widths(slope, dx, e_star, floor)
+    from .interaction_kernel import _MAX_INNER, mesh_cache, run_steps
+
+    kernel: Any = run_steps  # compiled; its many arguments are checked by numba
+
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
     n_cand = geometry.gap0.size
     record = np.zeros(n_steps, dtype=bool)
     if record_steps is not None and len(record_steps):
         record[np.asarray(record_steps)] = True
+    # candidates in order of their gap at δ_N = 0 (the order in which they can touch); the
+    # reach of the candidate set is its largest gap
+    order = np.argsort(np.asarray(geometry.gap0), kind="stable")
+    gap0 = np.ascontiguousarray(np.asarray(geometry.gap0, dtype=np.float64)[order])
+    columns = [
+        np.ascontiguousarray(np.asarray(getattr(geometry, name), dtype=np.float64)[order])
+        for name in ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
+    ]
+    points = np.asarray(geometry.point)[order]
+    height_lower = np.asarray(geometry.height_lower)[order]
+    point_x = points.astype(np.float64) * dx
+    reach = float(gap0[-1]) if gap0.size else 0.0
+    widths = _Widths(slope, dx, e_star, floor)
+    largest_mesh = max(op.max_cells, cells or 0)
+    cache = mesh_cache(largest_mesh)
+    state = np.array([0.0, 0.0, period, 1.0, 0.0])
+    field = np.zeros(largest_mesh)
+    per_contact = [np.zeros(n_cand) for _ in range(5)]  # load, older, tangential, width, shift
+    last_j = np.zeros(n_cand, dtype=np.int64)
     idx = np.empty(n_cand, dtype=np.int64)
-    delta = np.empty(n_cand)
-    ex = np.empty(n_cand)
-    ez = np.empty(n_cand)
-    reff = np.empty(n_cand)
-    offset = np.empty(n_cand)
-    offset_z = np.empty(n_cand)
-    load_all = np.zeros(n_cand)
-    older_all = np.zeros(n_cand)
-    last_j = np.zeros(0, dtype=np.int64)
-    last_increment = 0.0
-    tangential = np.zeros(n_cand)
-    width_all = np.zeros(n_cand)
-    shift_all = np.zeros(n_cand)
+    scratch = [np.empty(n_cand) for _ in range(9)]
+    _delta, ex, ez, reff, _offset, offset_z, out_x, out_load, out_ft = scratch
+    sums = np.zeros((6, n_steps))
+    counts = np.zeros((5, n_steps), dtype=np.int64)
+    dummy = np.zeros(1)
+    contacts: list[ContactRecord] = []
+    stops = [*(int(s) + 1 for s in np.flatnonzero(record)), n_steps]
+    first = 0
+    for stop in stops:
+        if first >= n_steps:
+            break  # stop_force reached
+        if stop <= first:
+            continue
+        count, failed, residual, stopped = kernel(
+            first, stop, displacement, gap0, reach, point_x, gap0, *columns, dx, n * dx,
+            float(e_star), float(g_star), float(mu0), float(settings.tol), settings.width_tol,
+            float(stop_force or 0.0),
+            int(settings.width_iterations), not settings.periodic, op.mirror_axis, period,
+            cells or 0, op.max_cells, slope is not None,
+            dummy if widths.slope is None else widths.slope,
+            dummy if widths.curvature is None else widths.curvature,
+            widths.sines, widths.weights, op.nodes, op.weights, floor, cache, state, field,
+            *per_contact, last_j, idx, *scratch, sums, counts,
+        )  # fmt: skip
+        if failed >= 0:
+            raise NoConvergenceError(
+                f"the interacting contact solve did not converge in {_MAX_INNER} iterations "
+                f"at step {failed} (residual {residual:.3g} > tol {settings.tol:.3g}); raise "
+                "tol or use more steps"
+            )
+        if stopped >= 0:
+            n_steps = stop = stopped + 1
+            displacement = displacement[:n_steps]
+            sums = sums[:, :n_steps]
+            counts = counts[:, :n_steps]
+        first = stop
+        step = stop - 1
+        if record[step] and count > 0:
+            j = idx[:count]
+            on = out_load[:count] > 0.0
+            chosen = j[on]
+            contacts.append(
+                ContactRecord(
+                    step=int(step),
+                    point=points[chosen],
+                    x=out_x[:count][on].copy(),
+                    z=height_lower[chosen] + offset_z[:count][on],
+                    overlap=out_load[:count][on] / (_QUARTER_PI * e_star),
+                    effective_radius=reff[:count][on].copy(),
+                    normal_force=out_load[:count][on].copy(),
+                    tangential_force=out_ft[:count][on].copy(),
+                    normal_x=ex[:count][on].copy(),
+                    normal_z=ez[:count][on].copy(),
+                )
+            )
     names = (
         "normal_force",
         "tangential_force",
@@ -420,162 +442,17 @@ def interacting_loading(
         "normal_force_tangential_part",
         "coalesced_contact_length",
     )
-    curves: dict[str, NDArray[Any]] = {k: np.zeros(n_steps) for k in names}
-    for k in (
-        "n_contacts",
-        "n_tilted_contacts",
-        "n_contact_patches",
-        "interaction_iterations",
-        "reach_exceeded",
+    curves: dict[str, NDArray[Any]] = {k: sums[i].copy() for i, k in enumerate(names)}
+    for i, k in enumerate(
+        (
+            "n_contacts",
+            "n_tilted_contacts",
+            "n_contact_patches",
+            "interaction_iterations",
+            "reach_exceeded",
+        )
     ):
-        curves[k] = np.zeros(n_steps, dtype=np.int64)
-    contacts: list[ContactRecord] = []
-    length = n * dx
-    # candidates in order of closing; the reach of the candidate set is its largest gap
-    # candidates in order of their gap at δ_N = 0 (the order in which they can touch)
-    order = np.argsort(np.asarray(geometry.gap0), kind="stable")
-    gap0 = np.ascontiguousarray(np.asarray(geometry.gap0, dtype=np.float64)[order])
-    kl = np.ascontiguousarray(np.asarray(geometry.curvature_lower)[order])
-    ku = np.ascontiguousarray(np.asarray(geometry.curvature_upper)[order])
-    mx = np.ascontiguousarray(np.asarray(geometry.m_x)[order])
-    mz = np.ascontiguousarray(np.asarray(geometry.m_z)[order])
-    nx = np.ascontiguousarray(np.asarray(geometry.n_x)[order])
-    nz = np.ascontiguousarray(np.asarray(geometry.n_z)[order])
-    points = np.asarray(geometry.point)[order]
-    height_lower = np.asarray(geometry.height_lower)[order]
-    point_x = points.astype(np.float64) * dx
-    closing_gap = gap0
-    reach = float(closing_gap[-1]) if closing_gap.size else 0.0
-    margin = 0.0
-    field = np.zeros(1)
-    field_cell = period
-    for step in range(n_steps):
-        d = float(displacement[step])
-        increment = d - float(displacement[step - 1]) if step > 0 else 0.0
-        threshold = d + margin
-        if threshold > reach:
-            curves["reach_exceeded"][step] = 1
-        n_active = int(np.searchsorted(closing_gap, threshold, side="right"))
-        count = _accept(
-            d,
-            -margin,
-            field,
-            field_cell,
-            point_x,
-            n_active,
-            gap0,
-            kl,
-            ku,
-            mx,
-            mz,
-            nx,
-            nz,
-            dx,
-            idx,
-            delta,
-            ex,
-            ez,
-            reff,
-            offset,
-            offset_z,
-        )
-        j = idx[:count].copy()
-        previous = load_all[j]
-        older = older_all[j]
-        keep_tangential = tangential[j]
-        b_start = width_all[j]
-        c_start = shift_all[j]
-        # the state lives on the contacts of the last step only: clear it there
-        older_all[last_j] = 0.0
-        older_all[j] = previous
-        load_all[last_j] = 0.0
-        tangential[last_j] = 0.0
-        width_all[last_j] = 0.0
-        shift_all[last_j] = 0.0
-        last_j = j
-        if count == 0:
-            continue
-        x = point_x[j] + offset[:count]
-        # warm start: the loads of the last step, extrapolated along the path where known
-        ratio = increment / last_increment if last_increment > 0.0 else 0.0
-        guess = np.where(
-            (previous > 0.0) & (older > 0.0), previous + ratio * (previous - older), previous
-        )
-        last_increment = increment
-        # and the widths with them (a ∝ √P near a smooth summit)
-        grown = (previous > 0.0) & (guess > 0.0)
-        b_start = np.where(
-            grown,
-            b_start * np.sqrt(np.where(grown, guess, 1.0) / np.where(grown, previous, 1.0)),
-            b_start,
-        )
-        load, a, shift, iterations = solve_contacts(
-            op,
-            x,
-            delta[:count].copy(),
-            ez[:count].copy(),
-            reff[:count].copy(),
-            np.clip(guess, 0.0, None),
-            b_start,
-            c_start,
-            e_star,
-            widths,
-            settings.tol,
-            settings.width_iterations,
-        )
-        width_all[j] = np.where(load > 0.0, a, 0.0)
-        shift_all[j] = np.where(load > 0.0, shift, 0.0)
-        x = x + shift
-        curves["interaction_iterations"][step] = iterations
-        if np.any(load > 0.0):
-            op.displacement(load)
-            field = op.phi.copy()
-            field_cell = op.h
-            margin = UPLIFT_FACTOR * max(0.0, -float(field.min()))
-        on = load > 0.0
-        f_n = load
-        # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
-        f_t = np.where(previous > 0.0, keep_tangential - g_star * increment * ex[:count], 0.0)
-        cap = mu0 * f_n
-        f_t = np.clip(f_t, -cap, cap)
-        f_t[~on] = 0.0
-        load_all[j] = load
-        tangential[j] = f_t
-        e_x = ex[:count]
-        e_z = ez[:count]
-        fn_part = f_n * e_z
-        ft_part = -f_t * e_x
-        curves["normal_force_normal_part"][step] = fn_part[on].sum()
-        curves["normal_force_tangential_part"][step] = ft_part[on].sum()
-        curves["normal_force"][step] = (fn_part + ft_part)[on].sum()
-        curves["tangential_force"][step] = (f_n * e_x + f_t * e_z)[on].sum()
-        delta_eff = load / (_QUARTER_PI * e_star)
-        r = reff[:count]
-        curves["contact_area"][step] = np.sqrt(delta_eff[on] * r[on]).sum()
-        curves["n_contacts"][step] = int(on.sum())
-        curves["n_tilted_contacts"][step] = int(np.sum(on & (e_z < 0.0)))
-        half = a[on]
-        lo = np.clip(x[on] - half, 0.0, length)
-        hi = np.clip(x[on] + half, 0.0, length)
-        curves["coalesced_contact_length"][step], curves["n_contact_patches"][step] = _union_length(
-            lo, hi
-        )
-        if record[step]:
-            chosen = j[on]
-            contacts.append(
-                ContactRecord(
-                    step=int(step),
-                    point=points[chosen],
-                    x=x[on],
-                    z=height_lower[chosen] + offset_z[:count][on],
-                    overlap=delta_eff[on],
-                    effective_radius=r[on],
-                    normal_force=f_n[on],
-                    tangential_force=f_t[on],
-                    normal_x=e_x[on],
-                    normal_z=e_z[on],
-                )
-            )
+        curves[k] = counts[i].copy()
     curves["displacement"] = displacement
     curves["tangential_displacement"] = np.zeros_like(displacement)
     curves["mean_separation"] = geometry.mean_gap0 - displacement

@@ -221,6 +221,14 @@ def simulate(
         law = bind_law(law, e_star, _reach_radius(lower, fits))
     elif law.code != Hertz.code:
         law = bind_law(law, e_star, 0.0)
+    if path is not None and interaction is not False:
+        from .interaction_path import simulate_interacting_path
+
+        return simulate_interacting_path(
+            lower, upper, path, settings, record_contacts, steps=steps,
+            final_displacement=final_displacement, e_star=e_star, g_star=g_star, mu0=mu0,
+            alpha=alpha, x0=x0,
+        )  # fmt: skip
     if path is not None:
         from .loadpath import simulate_path
 
@@ -326,11 +334,6 @@ def _interaction_settings(
         raise ParameterError(
             f"interaction = {interaction!r}; give True, False or an InteractionSettings"
         )
-    if path is not None:
-        raise ParameterError(
-            "interaction=True runs a monotone normal loading; load paths (path=...) are not "
-            "supported with interacting contacts yet — drop path or interaction"
-        )
     if not isinstance(law, Hertz):
         raise ParameterError(
             f"interaction=True couples Hertz contacts (eq. 10); the law {type(law).__name__} "
@@ -379,7 +382,7 @@ def _simulate_interacting(
         "interaction_width": settings.width,
     }
     return build_result(
-        lower, upper, fits, curves, contacts, steps=steps,
+        lower, upper, fits, curves, contacts, steps=int(curves["displacement"].size) - 1,
         final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
         mu0=mu0, alpha=alpha, x0=x0, extra=extra,
     )  # fmt: skip

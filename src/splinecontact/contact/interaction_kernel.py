@@ -1,0 +1,494 @@
+"""The interacting loading as one compiled loop over displacement steps.
+
+Every step of :func:`splinecontact.contact.interaction.interacting_loading` — the eq. 9
+acceptance, the warm start, the outer width loop, the particle–mesh operator (spreading, FFT
+convolution on the mesh, near-field corrections), the constrained conjugate gradients of
+Polonsky & Keer (Wear 231 (1999) 206–219) at contact level, the punch widths, the tangential
+springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without returning to Python.
+It is the same algorithm as the Python-driven :class:`.halfplane._Operator` and
+:func:`.halfplane._pk_solve` (kept as the readable reference); results agree to rounding.
+
+The mesh convolution uses a radix-2 complex FFT of the (power-of-two) mesh written here; the
+kernels of every mesh size are computed on first use and cached in a typed list.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+import scipy.fft as sfft
+from numba.typed import List
+from numpy.typing import NDArray
+
+from .halfplane import (
+    CELLS_PER_SOURCE,
+    NEAR_CELLS,
+    NEAR_WIDTHS,
+    _collect,
+    _near_pairs,
+    _pk_direction,
+    _pk_update,
+    _spread,
+    mesh_kernel,
+)
+from .interaction import UPLIFT_FACTOR, _accept
+from .punch import _profile_widths
+
+__all__ = ["mesh_cache", "run_steps"]
+
+_QUARTER_PI = 0.25 * math.pi
+
+#: Conjugate-gradient iterations per solve (as :mod:`.halfplane`).
+_MAX_INNER = 10_000
+
+#: Entries per mesh level in the kernel cache: mesh kernel, its spectrum.
+_PER_LEVEL = 2
+
+#: Smallest mesh: 2**_MIN_LEVEL cells.
+_MIN_LEVEL = 6
+
+
+def mesh_cache(max_cells: int) -> List:
+    """An empty kernel cache for meshes of 64 … ``max_cells`` cells (filled on first use)."""
+    levels = int(math.log2(max_cells)) + 1
+    cache = List()
+    for _ in range(levels * _PER_LEVEL):
+        cache.append(np.zeros(0))
+    return cache
+
+
+@numba.njit(cache=True)
+def _level(cache, cells: int, period: float, e_star: float) -> int:  # pragma: no cover
+    """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
+
+    The mesh kernel is the periodic Green function at the cell offsets minus the mean
+    smoothing h²/6 · G″ of linear spreading and reading (as :class:`.halfplane._Operator`).
+    """
+    level = 0
+    while (1 << level) < cells:
+        level += 1
+    base = level * _PER_LEVEL
+    if cache[base].size == 0:
+        with numba.objmode(green="float64[::1]", spectrum="float64[::1]"):
+            green = mesh_kernel(cells, period, e_star)
+            spectrum = np.ascontiguousarray(sfft.rfft(green)).view(np.float64)
+        cache[base] = green
+        cache[base + 1] = spectrum
+    return base
+
+
+@numba.njit(cache=True)
+def _convolve(
+    rho: NDArray[np.float64], spectrum: NDArray[np.float64]
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Periodic convolution of the mesh loads with the mesh kernel (its rfft ``spectrum``,
+    stored as interleaved real and imaginary parts), by scipy's real FFT."""
+    n = rho.size
+    with numba.objmode(phi="float64[::1]"):
+        phi = np.asarray(
+            sfft.irfft(spectrum.view(np.complex128) * sfft.rfft(rho), n), dtype=np.float64
+        )
+    return phi
+
+
+@numba.njit(cache=True)
+def _apply(
+    cache,
+    base: int,
+    load: NDArray[np.float64],
+    local: float,
+    ez: NDArray[np.float64],
+    pos: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    ez_src: NDArray[np.float64],
+    n: int,
+    h: float,
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    coef: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """(local·P + e_z w(P) at the contacts, the mesh displacement)."""
+    cells = cache[base].size
+    q, rho = _spread(load, owner, ez_src, pos, cells, h)
+    phi = _convolve(rho, cache[base + 1])
+    u = _collect(phi, pos, n, h, start, src, coef, q, load, ez, local)
+    return u, phi
+
+
+@numba.njit(cache=True)
+def _pk_solve(
+    cache,
+    base: int,
+    delta: NDArray[np.float64],
+    load: NDArray[np.float64],
+    tol: float,
+    ez: NDArray[np.float64],
+    a: NDArray[np.float64],
+    period: float,
+    c: float,
+    pos: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    ez_src: NDArray[np.float64],
+    h_mesh: float,
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    coef: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
+    """Constrained conjugate gradients at contact level (as :func:`.halfplane._pk_solve`).
+
+    Returns (P, iterations, residual, mesh displacement of P); iterations −1 when the solve
+    did not converge. A converged P was the last load the operator was applied to, so the mesh
+    displacement of that application is the surface displacement of the step.
+    """
+    n = delta.size
+    scale = delta.max()
+    if scale <= 0.0:
+        return np.zeros(n), 0, 0.0, np.zeros(0)
+    p = np.maximum(load, 0.0)
+    t = np.zeros(n)
+    h = np.empty(n)
+    g_norm_old = 0.0
+    conjugate = False
+    largest = -np.inf
+    for i in range(n):
+        self_part = max(c * (math.log(period / (math.pi * a[i])) - 1.5), 0.0)
+        largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
+    fallback = 1.0 / largest
+    local = 2.0 * c
+    cp, phi = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+    exact = True
+    residual = np.inf
+    for iteration in range(_MAX_INNER + 1):
+        residual, any_loaded, g_norm = _pk_direction(
+            p, cp, delta, h, t, conjugate, g_norm_old, scale
+        )
+        if residual <= tol:
+            if exact:
+                return p, iteration, residual, phi
+            cp, phi = _apply(
+                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
+            )
+            exact = True
+            continue
+        if not any_loaded:
+            d = np.maximum(-h, 0.0)
+            cd, _ = _apply(
+                cache, base, d, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
+            )
+            curvature = np.dot(d, cd)
+            step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
+            p = step * d
+            conjugate = False
+            cp, phi = _apply(
+                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
+            )
+            exact = True
+            continue
+        g_norm_old = g_norm
+        r, _ = _apply(cache, base, t, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+        conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
+        if not linear:
+            cp, phi = _apply(
+                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
+            )
+        exact = not linear
+    return p, -1, residual, phi
+
+
+@numba.njit(cache=True, nogil=True)
+def _hertz_width(
+    load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Hertz half-width √(2 P R_eff/(πE*)) [µm], at least ``floor`` (as :mod:`.punch`)."""
+    out = np.empty(load.size)
+    for i in range(load.size):
+        out[i] = max(math.sqrt(2.0 * max(load[i], 0.0) * reff[i] / (math.pi * e_star)), floor)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _union_length(
+    lo: NDArray[np.float64], hi: NDArray[np.float64]
+) -> tuple[float, int]:  # pragma: no cover - compiled
+    """Length of the union of intervals [lo, hi] and the number of its connected pieces."""
+    if lo.size == 0:
+        return 0.0, 0
+    order = np.argsort(lo, kind="mergesort")
+    length = 0.0
+    pieces = 0
+    first = lo[order[0]]
+    reach = hi[order[0]]
+    for k in range(1, lo.size):
+        o = order[k]
+        if lo[o] > reach:
+            length += reach - first
+            pieces += 1
+            first = lo[o]
+        reach = max(reach, hi[o])
+    length += reach - first
+    return length, pieces + 1
+
+
+@numba.njit(cache=True)
+def run_steps(
+    first: int,
+    stop: int,
+    displacement: NDArray[np.float64],
+    closing_gap: NDArray[np.float64],
+    reach: float,
+    point_x: NDArray[np.float64],
+    gap0: NDArray[np.float64],
+    kl: NDArray[np.float64],
+    ku: NDArray[np.float64],
+    mx: NDArray[np.float64],
+    mz: NDArray[np.float64],
+    nx: NDArray[np.float64],
+    nz: NDArray[np.float64],
+    dx: float,
+    length: float,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    tol: float,
+    width_tol: float,
+    stop_force: float,
+    outer: int,
+    mirror: bool,
+    mirror_axis: float,
+    period: float,
+    fixed_cells: int,
+    max_cells: int,
+    profile_width: bool,
+    slope: NDArray[np.float64],
+    curvature: NDArray[np.float64],
+    sines: NDArray[np.float64],
+    weights: NDArray[np.float64],
+    nodes: NDArray[np.float64],
+    qweights: NDArray[np.float64],
+    floor: float,
+    cache,
+    state: NDArray[np.float64],
+    field: NDArray[np.float64],
+    load_all: NDArray[np.float64],
+    older_all: NDArray[np.float64],
+    tangential: NDArray[np.float64],
+    width_all: NDArray[np.float64],
+    shift_all: NDArray[np.float64],
+    last_j: NDArray[np.int64],
+    idx: NDArray[np.int64],
+    delta: NDArray[np.float64],
+    ex: NDArray[np.float64],
+    ez: NDArray[np.float64],
+    reff: NDArray[np.float64],
+    offset: NDArray[np.float64],
+    offset_z: NDArray[np.float64],
+    out_x: NDArray[np.float64],
+    out_load: NDArray[np.float64],
+    out_ft: NDArray[np.float64],
+    curves: NDArray[np.float64],
+    counts: NDArray[np.int64],
+) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
+    """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
+
+    ``state`` holds (last increment, uplift margin, mesh spacing of ``field``, cells of
+    ``field``, contacts of the last step); the per-contact arrays are the state of
+    :func:`.interaction.interacting_loading`. ``curves`` rows: normal force, tangential force,
+    contact area, normal-force normal and tangential parts, coalesced length; ``counts`` rows:
+    contacts, tilted contacts, patches, CG iterations, reach exceeded. The loop ends after the
+    first step whose normal force reaches ``stop_force`` [mN/µm] (> 0; 0: never). Returns
+    (count of the last step's accepted contacts, step that failed to converge or −1, its
+    residual, the step at which ``stop_force`` was reached or −1).
+    """
+    c0 = 2.0 / (math.pi * e_star)
+    count = 0
+    for step in range(first, stop):
+        last_increment = state[0]
+        margin = state[1]
+        field_cell = state[2]
+        field_n = int(state[3])
+        last_n = int(state[4])
+        d = displacement[step]
+        increment = d - displacement[step - 1] if step > 0 else 0.0
+        threshold = d + margin
+        if threshold > reach:
+            counts[4, step] = 1
+        n_active = np.searchsorted(closing_gap, threshold, side="right")
+        count = _accept(
+            d, -margin, field[:field_n], field_cell, point_x, n_active, gap0, kl, ku, mx, mz,
+            nx, nz, dx, idx, delta, ex, ez, reff, offset, offset_z,
+        )  # fmt: skip
+        j = idx[:count].copy()
+        previous = np.empty(count)
+        older = np.empty(count)
+        keep_t = np.empty(count)
+        b_start = np.empty(count)
+        c_start = np.empty(count)
+        for k in range(count):
+            previous[k] = load_all[j[k]]
+            older[k] = older_all[j[k]]
+            keep_t[k] = tangential[j[k]]
+            b_start[k] = width_all[j[k]]
+            c_start[k] = shift_all[j[k]]
+        for k in range(last_n):
+            older_all[last_j[k]] = 0.0
+        for k in range(count):
+            older_all[j[k]] = previous[k]
+        for k in range(last_n):
+            s = last_j[k]
+            load_all[s] = 0.0
+            tangential[s] = 0.0
+            width_all[s] = 0.0
+            shift_all[s] = 0.0
+        last_j[:count] = j
+        state[4] = count
+        if count == 0:
+            continue
+        x = np.empty(count)
+        for k in range(count):
+            x[k] = point_x[j[k]] + offset[k]
+        ratio = increment / last_increment if last_increment > 0.0 else 0.0
+        guess = np.empty(count)
+        for k in range(count):
+            if previous[k] > 0.0 and older[k] > 0.0:
+                guess[k] = previous[k] + ratio * (previous[k] - older[k])
+            else:
+                guess[k] = previous[k]
+            if previous[k] > 0.0 and guess[k] > 0.0:
+                b_start[k] = b_start[k] * math.sqrt(guess[k] / previous[k])
+        state[0] = increment
+        # --- the contact-level solve with the outer width loop (interaction.solve_contacts)
+        dl = delta[:count].copy()
+        e_z = ez[:count].copy()
+        r_eff = reff[:count].copy()
+        load = np.maximum(guess, 0.0)
+        a_fresh = _hertz_width(_QUARTER_PI * e_star * np.maximum(dl, 0.0), r_eff, e_star, floor)
+        a = np.empty(count)
+        cc = np.empty(count)
+        for k in range(count):
+            fresh = b_start[k] <= 0.0
+            a[k] = a_fresh[k] if fresh else b_start[k]
+            cc[k] = 0.0 if fresh else c_start[k]
+        total = 0
+        phi = np.zeros(0)
+        sources = 2 * count if mirror else count
+        cells = fixed_cells
+        if fixed_cells <= 0:
+            wanted = 1 << math.ceil(math.log2(max(CELLS_PER_SOURCE * sources, 64)))
+            cells = min(wanted, max_cells)
+        base = _level(cache, cells, period, e_star)
+        h_mesh = period / cells
+        pos = np.empty(sources)
+        a_src = np.empty(sources)
+        owner = np.empty(sources, dtype=np.int64)
+        ez_src = np.empty(sources)
+        start = np.zeros(1, dtype=np.int64)
+        src = np.zeros(0, dtype=np.int64)
+        coef = np.zeros(0)
+        for it in range(outer):
+            xc = x + cc
+            for k in range(count):
+                pos[k] = xc[k]
+                a_src[k] = a[k]
+                owner[k] = k
+                ez_src[k] = e_z[k]
+                if mirror:
+                    pos[count + k] = mirror_axis - xc[k]
+                    a_src[count + k] = a[k]
+                    owner[count + k] = k
+                    ez_src[count + k] = e_z[k]
+            pos = np.mod(pos, period)
+            largest = a.max()
+            near = min(max(NEAR_CELLS * h_mesh, NEAR_WIDTHS * largest), 0.25 * period)
+            start, src, coef = _near_pairs(
+                pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
+            )
+            load, iterations, residual, phi = _pk_solve(
+                cache, base, dl, load, tol, e_z, a, period, c0, pos, owner, ez_src, h_mesh,
+                start, src, coef,
+            )  # fmt: skip
+            if iterations < 0:
+                return count, step, residual, -1
+            total += iterations
+            a_new = _hertz_width(load, r_eff, e_star, floor)
+            c_new = np.zeros(count)
+            if profile_width:
+                src_q = np.empty(sources)
+                for s in range(sources):
+                    src_q[s] = ez_src[s] * load[owner[s]]
+                b, c_new = _profile_widths(
+                    load, a_new, x, a, cc, slope, curvature, dx, e_star, sines, weights,
+                    start, src, pos, a_src, src_q, period,
+                )  # fmt: skip
+                a_new = np.maximum(b, floor)
+            done = True
+            anyload = False
+            for k in range(count):
+                if load[k] > 0.0:
+                    anyload = True
+                if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(a[k], floor):
+                    done = False
+            a = a_new
+            cc = c_new
+            if not anyload or done or it == outer - 1:
+                break
+        counts[3, step] = total
+        on = load > 0.0
+        for k in range(count):
+            width_all[j[k]] = a[k] if on[k] else 0.0
+            shift_all[j[k]] = cc[k] if on[k] else 0.0
+            x[k] += cc[k]
+        if np.any(on):
+            # the mesh displacement of the converged loads (the solve's last application)
+            field[: phi.size] = phi
+            state[2] = h_mesh
+            state[3] = phi.size
+            state[1] = UPLIFT_FACTOR * max(0.0, -phi.min())
+        # tangential springs (eqs. 11–13) on loaded contacts, reset where unloaded
+        fn_n = 0.0
+        fn_t = 0.0
+        f_norm = 0.0
+        f_tan = 0.0
+        area = 0.0
+        n_on = 0
+        n_tilted = 0
+        lo = np.empty(count)
+        hi = np.empty(count)
+        for k in range(count):
+            f_n = load[k]
+            e_x = ex[k]
+            f_t = keep_t[k] - g_star * increment * e_x if previous[k] > 0.0 else 0.0
+            cap = mu0 * f_n
+            f_t = min(max(f_t, -cap), cap)
+            if not on[k]:
+                f_t = 0.0
+            load_all[j[k]] = f_n
+            tangential[j[k]] = f_t
+            out_x[k] = x[k]
+            out_load[k] = f_n
+            out_ft[k] = f_t
+            if on[k]:
+                fn_n += f_n * e_z[k]
+                fn_t += -f_t * e_x
+                f_norm += f_n * e_z[k] + -f_t * e_x
+                f_tan += f_n * e_x + f_t * e_z[k]
+                area += math.sqrt(f_n / (_QUARTER_PI * e_star) * r_eff[k])
+                lo[n_on] = min(max(x[k] - a[k], 0.0), length)
+                hi[n_on] = min(max(x[k] + a[k], 0.0), length)
+                n_on += 1
+                if e_z[k] < 0.0:
+                    n_tilted += 1
+        curves[0, step] = f_norm
+        curves[1, step] = f_tan
+        curves[2, step] = area
+        curves[3, step] = fn_n
+        curves[4, step] = fn_t
+        union, pieces = _union_length(lo[:n_on], hi[:n_on])
+        curves[5, step] = union
+        counts[0, step] = n_on
+        counts[1, step] = n_tilted
+        counts[2, step] = pieces
+        if stop_force > 0.0 and f_norm >= stop_force:
+            return count, -1, 0.0, step
+    return count, -1, 0.0, -1

@@ -1,0 +1,127 @@
+"""Interacting SAD along a normal load path (loading, unloading, reloading).
+
+The coupled contacts of :mod:`.interaction` under a displacement-controlled normal path given
+as :class:`~splinecontact.contact.Segment` pieces: the upper body's normal displacement δ_N
+goes from 0 through each segment's target in equal increments, and every step solves the
+coupled contact problem (eqs. 7–10 with the elastic half-plane) warm-started from the previous
+one, whatever the direction. With SAD's elastic law (eq. 10) the normal state depends on δ_N
+only, so unloading retraces loading; the tangential springs (eqs. 11–13) follow the normal
+increments as in the monotone loading, with their history.
+
+Tangential sliding (``tangential=``) and force control (``normal_force=``) with interacting
+contacts are refused with a :class:`~splinecontact.errors.LoadPathError`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import LoadPathError
+from ..profile import Profile
+from ..results import SimulationResult
+from .geometry import check_bodies
+from .interaction import InteractionSettings, extended_geometry, interacting_loading
+from .segments import Segment, validate_path
+
+__all__ = ["normal_path_displacements", "simulate_interacting_path"]
+
+
+def normal_path_displacements(segments: Iterable[Segment]) -> NDArray[np.float64]:
+    """δ_N [µm] at every step of a normal, displacement-controlled path (step 0: δ_N = 0).
+
+    Raises
+    ------
+    LoadPathError
+        A segment moves the upper body tangentially or holds a normal force: neither is
+        supported with interacting contacts.
+    """
+    values = [0.0]
+    current = 0.0
+    for index, segment in enumerate(validate_path(segments)):
+        if segment.tangential is not None and segment.tangential != 0.0:
+            raise LoadPathError(
+                f"path segment {index}: tangential = {segment.tangential!r} µm; interacting "
+                "contacts (interaction=True) run normal load paths only (loading, unloading, "
+                "reloading): tangential sliding is not supported with them yet — drop "
+                "tangential or interaction"
+            )
+        if segment.force_controlled:
+            raise LoadPathError(
+                f"path segment {index}: normal_force = {segment.normal_force!r} mN/µm; "
+                "interacting contacts (interaction=True) run displacement-controlled paths only: "
+                "force control is not supported with them yet — give normal= (δ_N [µm]) or "
+                "drop interaction"
+            )
+        target = current if segment.normal is None else float(segment.normal)
+        k = np.arange(1, segment.steps + 1, dtype=np.float64)
+        values.extend((current + (target - current) * k / segment.steps).tolist())
+        current = target
+    return np.asarray(values, dtype=np.float64)
+
+
+def simulate_interacting_path(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    path: Iterable[Segment],
+    settings: InteractionSettings,
+    record_contacts: Iterable[int] | str | None,
+    *,
+    steps: int,
+    final_displacement: float | None,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+) -> SimulationResult:
+    """``simulate(..., path=..., interaction=True)`` (units as there; normal paths only)."""
+    from .simulation import _record_steps, build_result, spline_fits
+
+    segments = validate_path(path)
+    if final_displacement is not None:
+        raise LoadPathError(
+            f"final_displacement = {final_displacement!r} µm and path were both given: the path "
+            "sets the displacements; drop final_displacement"
+        )
+    if steps != 1000:
+        raise LoadPathError(
+            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
+            "drop steps"
+        )
+    displacement = normal_path_displacements(segments)
+    total = displacement.size - 1
+    record_steps = _record_steps(record_contacts, total)
+    check_bodies(lower, upper)
+    fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    extent = max(float(displacement.max()), lower.dx)
+    geometry = extended_geometry(
+        lower, upper, steps=1, final_displacement=extent, final_displacement_factor=0.2,
+        alpha=alpha, x0=x0, fits=fits, reach_fraction=settings.reach_fraction,
+    )  # fmt: skip
+    geometry = dataclasses.replace(geometry, displacement=displacement)
+    curves, contacts = interacting_loading(
+        geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
+        settings=settings, record_steps=record_steps,
+    )  # fmt: skip
+    path_record = [
+        {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
+         "steps": s.steps}
+        for s in segments
+    ]  # fmt: skip
+    extra = {
+        "path": path_record,
+        "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
+        "interaction": "elastic half-plane",
+        "interaction_boundary": "periodic" if settings.periodic else "symmetry walls",
+        "interaction_tol": settings.tol,
+        "interaction_width": settings.width,
+    }
+    return build_result(
+        lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
+        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, extra=extra,
+    )  # fmt: skip
