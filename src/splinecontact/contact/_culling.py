@@ -7,6 +7,7 @@ whose rigid gap can close at a tangential shift within a window and a normal dis
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numba
@@ -181,3 +182,139 @@ def candidate_bounds(
                     out_bound[count] = v
                     count += 1
     return count
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _run_flags(
+    surf: Surfaces,
+    i0: int,
+    k0: int,
+    shift: float,
+    d: float,
+    threshold: float,
+    reach: float,
+    f_l: NDArray[np.float64],
+    kappa_l: NDArray[np.float64],
+    nl_x: NDArray[np.float64],
+    nl_z: NDArray[np.float64],
+    f_u: NDArray[np.float64],
+    gamma_u: NDArray[np.float64],
+    slope_u: NDArray[np.float64],
+    curv_u: NDArray[np.float64],
+    bound: NDArray[np.float64],
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
+
+    The arrays are views starting at point i0 (lower), knot k0 (upper) and the run's first
+    candidate; contiguous, so that the loop runs on vector units. A point whose knot interval
+    ⌊i0 + p − shift⌋ is not k0 + p (rounding at a knot) is flagged 2 (evaluated again alone).
+    """
+    placement = surf.placement
+    kappa_max = surf.kappa_max
+    inv_dx = 1.0 / surf.dx
+    lim = surf.dx * (1.0 + 1e-6)
+    min_delta = -reach
+    n_closed = 0
+    for p in range(flags.size):
+        xi = (i0 + p) - shift
+        k = math.floor(xi)
+        same = k == k0 + p
+        t = xi - k
+        w = 1.0 - t
+        fk = f_u[p]
+        fk1 = f_u[p + 1]
+        g0 = gamma_u[p]
+        g1 = gamma_u[p + 1]
+        knot = t == 0.0
+        h_u = w * fk + t * fk1 + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
+        h_u = fk if knot else h_u
+        s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
+        s1 = slope_u[p] if knot else s1
+        s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
+        s2 = curv_u[p] if knot else s2
+        g = (placement - (h_u + f_l[p])) - d
+        closed = same & (bound[p] >= threshold) & (not g > reach)
+        n_closed += closed
+        k_l = kappa_l[p]
+        n_x = nl_x[p]
+        n_z = nl_z[p]
+        norm_u = math.sqrt(1.0 + s1 * s1)
+        k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
+        m_x = s1 / norm_u
+        m_z = 1.0 / norm_u
+        k_sum = k_l + k_u
+        k_prod = k_u * k_l
+        y_x = k_l * m_x + k_u * n_x
+        y_z = k_prod * g + k_l * m_z + k_u * n_z
+        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+        dmx = m_x - n_x
+        dmz = m_z - n_z
+        num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
+        delta = num / (y_norm + k_sum)
+        off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
+        keep = (
+            closed
+            & (k_sum > 0.0)
+            & (y_norm > 0.0)
+            & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
+            & (abs(off) <= lim * y_norm)
+        )
+        flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True)
+def sliding_flags(
+    surf: Surfaces,
+    cand: NDArray[np.int64],
+    bound: NDArray[np.float64],
+    shift: float,
+    d: float,
+    threshold: float,
+    reach: float,
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """Closed candidates that may pass Table 1, δ > −reach and eq. 9 at shift u/dx (``flags``).
+
+    A branch-free pass over the candidates (grid order) of a rough upper body, run by runs of
+    consecutive points (:func:`_run_flags`): the shifted spline's height, slope and f″ at
+    ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
+    evaluation, so the values are the same to the bit), the gap g, and the conservative eq. 9
+    filter of the kernel (tests widened by a relative 10⁻⁶ of dx/2 and 10⁻⁹ of the overlap
+    scale). ``flags[j]`` is 1 for the candidates that are inside the upper body, have
+    ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset of those the exact
+    tests accept), 2 for the few the pass could not decide (to be evaluated alone), 0 for the
+    rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
+    those flagged 0 or 1.
+    """
+    m = cand.size
+    top = surf.f_u.size - 2  # last knot interval
+    n_closed = 0
+    j0 = 0
+    while j0 < m:
+        i0 = cand[j0]
+        j1 = j0 + 1
+        while j1 < m and cand[j1] == i0 + (j1 - j0):
+            j1 += 1
+        # points i0 … i0 + (j1 − j0 − 1); knot intervals k0 + p inside [0, top]
+        k0 = math.floor(i0 - shift)
+        p_lo = min(max(0, -k0), j1 - j0)
+        p_hi = max(min(j1 - j0, top - k0 + 1), p_lo)
+        for p in range(p_lo):
+            flags[j0 + p] = 2
+        for p in range(p_hi, j1 - j0):
+            flags[j0 + p] = 2
+        if p_hi > p_lo:
+            a = i0 + p_lo
+            b = k0 + p_lo
+            n_p = p_hi - p_lo
+            n_closed += _run_flags(
+                surf, a, b, shift, d, threshold, reach, surf.f_l[a : a + n_p],
+                surf.kappa_l[a : a + n_p], surf.nl_x[a : a + n_p], surf.nl_z[a : a + n_p],
+                surf.f_u[b : b + n_p + 1], surf.gamma_u[b : b + n_p + 1],
+                surf.slope_u[b : b + n_p], surf.curv_u[b : b + n_p],
+                bound[j0 + p_lo : j0 + p_hi], flags[j0 + p_lo : j0 + p_hi],
+            )  # fmt: skip
+        j0 = j1
+    return n_closed

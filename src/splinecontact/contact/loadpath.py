@@ -115,6 +115,7 @@ def _scratch(capacity: int) -> _k.Scratch:
         cl_nx=np.empty(capacity),
         cl_nz=np.empty(capacity),
         cl_keep=np.empty(capacity, dtype=np.bool_),
+        cl_flag=np.empty(capacity, dtype=np.uint8),
     )
 
 

@@ -27,7 +27,14 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._culling import Culling, Surfaces, block_max, candidate_bounds, interval_envelope
+from ._culling import (
+    Culling,
+    Surfaces,
+    block_max,
+    candidate_bounds,
+    interval_envelope,
+    sliding_flags,
+)
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, tangential_spring
 
@@ -83,6 +90,7 @@ class Scratch(NamedTuple):
     cl_nx: NDArray[np.float64]  # lower normal [1]
     cl_nz: NDArray[np.float64]
     cl_keep: NDArray[np.bool_]  # may pass Table 1, eq. 9 and δ > −reach (conservative)
+    cl_flag: NDArray[np.uint8]  # per candidate: 1 closed and kept, 2 undecided (sliding)
 
 
 class StepSums(NamedTuple):
@@ -160,6 +168,20 @@ def _upper_sphere(
     elif k_u < -kappa_max:
         k_u = -kappa_max
     return k_u, s1 / norm_u, 1.0 / norm_u
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pack(
+    scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
+) -> None:  # pragma: no cover - compiled
+    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q."""
+    scratch.cl_i[q] = i
+    scratch.cl_g[q] = g
+    scratch.cl_s1[q] = s1
+    scratch.cl_s2[q] = s2
+    scratch.cl_kl[q] = surf.kappa_l[i]
+    scratch.cl_nx[q] = surf.nl_x[i]
+    scratch.cl_nz[q] = surf.nl_z[i]
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -286,6 +308,9 @@ def path_step(
     scratch: Scratch,
     fixed: NDArray[np.bool_],
     use_fixed: bool,
+    pre_gap: NDArray[np.float64],
+    pre_s1: NDArray[np.float64],
+    pre_s2: NDArray[np.float64],
 ) -> StepSums:  # pragma: no cover - compiled
     """One configuration (u, δ_N) of the upper body; see the module docstring.
 
@@ -311,37 +336,73 @@ def path_step(
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    # 1. The gap of every candidate; the closed points (gap ≤ reach) are packed.
+    # 1. The closed points (gap ≤ reach) that may be accepted are packed (cl_*, cl_keep).
     n_closed = 0
-    for j in range(cand.size):
-        if bound[j] < threshold:
-            if descending:
-                break
-            continue
-        i = cand[j]
-        # The height first: the slope and curvature only where the gap has closed.
-        inside, h_u, k, t = _upper_height(surf, i, shift)
-        if not inside:
-            continue
-        g = (placement - (h_u + f_l[i])) - d
-        if g > reach and not (use_fixed and fixed[i]):
-            continue
-        s1, s2 = _upper_slopes(surf, k, t)
-        scratch.cl_i[n_closed] = i
-        scratch.cl_g[n_closed] = g
-        scratch.cl_s1[n_closed] = s1
-        scratch.cl_s2[n_closed] = s2
-        scratch.cl_kl[n_closed] = surf.kappa_l[i]
-        scratch.cl_nx[n_closed] = surf.nl_x[i]
-        scratch.cl_nz[n_closed] = surf.nl_z[i]
-        n_closed += 1
-    # 2. Most closed points fail eq. 9: a branch-free conservative filter first.
-    if not use_fixed:
-        _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
+    n_packed = 0
+    if use_fixed or surf.flat:
+        # The gap of every candidate; the closed points are packed, then filtered.
+        for j in range(cand.size):
+            if bound[j] < threshold:
+                if descending:
+                    break
+                continue
+            i = cand[j]
+            # The height first: the slope and curvature only where the gap has closed.
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if g > reach and not (use_fixed and fixed[i]):
+                continue
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_closed, surf, i, g, s1, s2)
+            n_closed += 1
+        n_packed = n_closed
+        if not use_fixed:
+            _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
+    elif pre_gap.size > 0:
+        # A fixed shift: the upper body's values at the candidates were computed once.
+        for j in range(cand.size):
+            if bound[j] < threshold:
+                if descending:
+                    break
+                continue
+            g = pre_gap[j] - d
+            if g > reach:
+                continue
+            _pack(scratch, n_closed, surf, cand[j], g, pre_s1[j], pre_s2[j])
+            n_closed += 1
+        n_packed = n_closed
+        _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
+    else:
+        # Sliding: one branch-free pass flags the few closed points the filter keeps; only
+        # those (and the few it could not decide) are evaluated again, alone, and packed.
+        flags = scratch.cl_flag
+        n_closed = sliding_flags(surf, cand, bound, shift, d, threshold, reach, flags)
+        for j in range(cand.size):
+            flag = flags[j]
+            if flag == 0:
+                continue
+            if flag == 2 and bound[j] < threshold:
+                continue
+            i = cand[j]
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if flag == 2:
+                if g > reach:
+                    continue
+                n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_packed, surf, i, g, s1, s2)
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
+
     cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
     n_c = 0
-    for q in range(n_closed):
+    for q in range(n_packed):
         i = scratch.cl_i[q]
         if use_fixed:
             if not fixed[i]:
@@ -453,9 +514,40 @@ def path_step_from_python(
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed,
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE, _NONE,
+        _NONE,
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
+
+
+#: No precomputed values (:func:`path_step` then evaluates the upper body itself).
+_NONE = np.empty(0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _fixed_shift_values(
+    surf: Surfaces, cand: NDArray[np.int64], shift: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
+    """C − (h^u + f^l), S′ and S″ of the upper body at the candidates, for a fixed shift.
+
+    The same scalar evaluation as :func:`path_step`'s (so the gap C − (h^u + f^l) − δ_N is the
+    same to the bit); a candidate outside the upper body gets an infinite value (never closed).
+    """
+    m = cand.size
+    gap = np.empty(m)
+    s1 = np.empty(m)
+    s2 = np.empty(m)
+    for j in range(m):
+        i = cand[j]
+        inside, h_u, k, t = _upper_height(surf, i, shift)
+        if not inside:
+            gap[j] = np.inf
+            s1[j] = 0.0
+            s2[j] = 0.0
+            continue
+        gap[j] = surf.placement - (h_u + surf.f_l[i])
+        s1[j], s2[j] = _upper_slopes(surf, k, t)
+    return gap, s1, s2
 
 
 @numba.njit(cache=True, nogil=True)
@@ -506,6 +598,9 @@ def run_steps(
     built_until = -1
     cand = buf_idx[:0]
     bound = buf_bound[:0]
+    pre_gap = buf_bound[:0]
+    pre_s1 = buf_bound[:0]
+    pre_s2 = buf_bound[:0]
     u_cur = u_prev
     d_cur = d_prev
     for s in range(s_first, s_last + 1):
@@ -529,6 +624,8 @@ def run_steps(
                 order = np.argsort(-buf_bound[:count], kind="mergesort")
                 cand = buf_idx[:count][order]
                 bound = buf_bound[:count][order]
+                if not surf.flat:
+                    pre_gap, pre_s1, pre_s2 = _fixed_shift_values(surf, cand, u_a / dx)
             built_until = s_end
         u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
         d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
@@ -537,7 +634,7 @@ def run_steps(
         sums = path_step(
             u, d, du, dd, True, surf, cand, bound, not moving, material,
             migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch, springs.claimed,
-            False,
+            False, pre_gap, pre_s1, pre_s2,
         )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
