@@ -45,6 +45,9 @@ FORCE_RTOL = 1e-9
 #: Block size [points] of the candidate culling.
 _BLOCK = 64
 
+#: Sub-block size [points] of a sliding step's candidate runs (divides _BLOCK).
+_SUB = 16
+
 #: Blocks per super-block of the candidate culling.
 _PER_SUPER = 16
 
@@ -159,8 +162,11 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         placement = float((f_u + f_l).max())
         envelope = _k.interval_envelope(f_u, gamma_u)
     scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
-    f_l_block = _k.block_max(f_l, _BLOCK)
-    envelope_block = _k.block_max(envelope, _BLOCK)
+    # maxima of sub-blocks, then of blocks of _BLOCK // _SUB sub-blocks (the same values)
+    f_l_sub = _k.block_max(f_l, _SUB)
+    envelope_sub = _k.block_max(envelope, _SUB)
+    f_l_block = _k.block_max(f_l_sub, _BLOCK // _SUB)
+    envelope_block = _k.block_max(envelope_sub, _BLOCK // _SUB)
     surf = _k.Surfaces(
         f_l=f_l,
         kappa_l=kappa_l,
@@ -184,6 +190,9 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         envelope_super=_k.block_max(envelope_block, _PER_SUPER),
         per_super=_PER_SUPER,
         margin=1e-12 * scale,
+        f_l_sub=f_l_sub,
+        envelope_sub=envelope_sub,
+        sub=_SUB,
     )
     return _Geometry(surf=surf, cull=cull, scale=scale, surf_tuple=tuple(surf))
 

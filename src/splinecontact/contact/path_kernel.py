@@ -31,9 +31,12 @@ from ._culling import (
     Culling,
     Surfaces,
     block_max,
+    candidate_blocks,
     candidate_bounds,
     interval_envelope,
+    run_flags,
     sliding_flags,
+    step_runs,
 )
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, tangential_spring
@@ -246,22 +249,34 @@ def _migrate(
     claimed = springs.claimed
     c_idx = scratch.idx
     c_src = scratch.src
-    n_pairs = 0
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
         if st_acc[i]:
             c_src[c] = i
             claimed[i] = True
+    # The vanished previous contacts (committed, not continued in their own cell), sorted: the
+    # candidates of a contact are found by bisection instead of visiting its 2·migrate_cells
+    # neighbours, and generated in the same order (by |q − i|, then the left one first).
+    n_old = springs.n_committed[0]
+    vanished = np.empty(n_old, dtype=np.int64)
+    n_v = 0
+    for p in range(n_old):
+        q = springs.cells[p]
+        if not claimed[q]:
+            vanished[n_v] = q
+            n_v += 1
+    vanished = np.sort(vanished[:n_v])
+    first = np.empty(n_c, dtype=np.int64)  # first vanished cell > i − migrate_cells − 1
+    n_pairs = 0
     for c in range(n_c):
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        for r in range(1, migrate_cells + 1):
-            for sgn in (-1, 1):
-                q = i + sgn * r
-                if 0 <= q < n and st_acc[q] and not claimed[q]:
-                    n_pairs += 1
+        lo = np.searchsorted(vanished, i - migrate_cells)
+        hi = np.searchsorted(vanished, i + migrate_cells, side="right")
+        first[c] = lo
+        n_pairs += hi - lo
     if n_pairs > 0:
         pair_c = np.empty(n_pairs, dtype=np.int64)
         pair_q = np.empty(n_pairs, dtype=np.int64)
@@ -271,14 +286,25 @@ def _migrate(
             if c_src[c] >= 0:
                 continue
             i = c_idx[c]
-            for r in range(1, migrate_cells + 1):
-                for sgn in (-1, 1):
-                    q = i + sgn * r
-                    if 0 <= q < n and st_acc[q] and not claimed[q]:
-                        pair_c[p] = c
-                        pair_q[p] = q
-                        pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
-                        p += 1
+            mid = np.searchsorted(vanished, i)  # vanished[mid − 1] < i ≤ vanished[mid]
+            left = mid - 1
+            right = mid
+            lo = first[c]
+            while True:
+                has_left = left >= lo
+                has_right = right < n_v and vanished[right] - i <= migrate_cells
+                if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
+                    q = vanished[left]
+                    left -= 1
+                elif has_right:
+                    q = vanished[right]
+                    right += 1
+                else:
+                    break
+                pair_c[p] = c
+                pair_q[p] = q
+                pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
+                p += 1
         order = np.argsort(pair_d, kind="mergesort")
         for o in order:
             c = pair_c[o]
@@ -326,16 +352,12 @@ def path_step(
     free evaluation.
     """
     f_l = surf.f_l
-    n = f_l.size
     placement = surf.placement
     reach = material.reach
     threshold = placement - d - reach
     shift = u / surf.dx
     half_dx = 0.5 * surf.dx
     kappa_max = surf.kappa_max
-    code = material.law_code
-    params = material.law_params
-    law_state = material.law_state
     # 1. The closed points (gap ≤ reach) that may be accepted are packed (cl_*, cl_keep).
     n_closed = 0
     n_packed = 0
@@ -399,6 +421,96 @@ def path_step(
             scratch.cl_keep[n_packed] = True
             n_packed += 1
 
+    return _settle(
+        u, d, du, dd, commit, surf, material, migrate_cells, springs, scratch, fixed, use_fixed,
+        n_packed, n_closed,
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True)
+def slide_step(
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    surf: Surfaces,
+    run_start: NDArray[np.int64],
+    run_len: NDArray[np.int64],
+    n_runs: int,
+    material: Material,
+    migrate_cells: int,
+    springs: Springs,
+    scratch: Scratch,
+) -> StepSums:  # pragma: no cover - compiled
+    """:func:`path_step` (committed, free) of a rough upper body on runs of candidate points.
+
+    The runs (:func:`.step_runs`, grid order) must hold every point whose gap can close; the
+    result is then the same, to the bit, as :func:`path_step` on any candidate list in grid
+    order holding them: one vector pass (:func:`.run_flags`) flags the few closed points the
+    conservative eq. 9 filter keeps, and only those are evaluated again, alone, packed and
+    decided exactly in grid order.
+    """
+    f_l = surf.f_l
+    placement = surf.placement
+    reach = material.reach
+    shift = u / surf.dx
+    flags = scratch.cl_flag
+    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags)
+    n_packed = 0
+    o = 0
+    for r in range(n_runs):
+        i0 = run_start[r]
+        for p in range(run_len[r]):
+            flag = flags[o + p]
+            if flag == 0:
+                continue
+            i = i0 + p
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if flag == 2:
+                if g > reach:
+                    continue
+                n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_packed, surf, i, g, s1, s2)
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
+        o += run_len[r]
+    return _settle(
+        u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
+        False, n_packed, n_closed,
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True)
+def _settle(
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    commit: bool,
+    surf: Surfaces,
+    material: Material,
+    migrate_cells: int,
+    springs: Springs,
+    scratch: Scratch,
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
+    n_packed: int,
+    n_closed: int,
+) -> StepSums:  # pragma: no cover - compiled
+    """The packed closed points of a configuration decided exactly, the springs moved (eqs.
+    9–13); see :func:`path_step`. ``n_closed`` is reported as ``n_candidates``."""
+    f_l = surf.f_l
+    n = f_l.size
+    reach = material.reach
+    half_dx = 0.5 * surf.dx
+    kappa_max = surf.kappa_max
+    code = material.law_code
+    params = material.law_params
+    law_state = material.law_state
     cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
     n_c = 0
@@ -588,6 +700,7 @@ def run_steps(
     """
     dx = surf.dx
     moving = u_b != u_a
+    sliding = moving and not surf.flat
     if moving:
         per_chunk = int(chunk_cells * n_steps / (abs(u_b - u_a) / dx))
         if per_chunk < 1:
@@ -601,6 +714,10 @@ def run_steps(
     pre_gap = buf_bound[:0]
     pre_s1 = buf_bound[:0]
     pre_s2 = buf_bound[:0]
+    n_sub = cull.f_l_sub.size if sliding else 0
+    blocks = np.empty(cull.f_l_block.size if sliding else 0, dtype=np.int64)
+    run_start = np.empty(n_sub, dtype=np.int64)
+    run_len = np.empty(n_sub, dtype=np.int64)
     u_cur = u_prev
     d_cur = d_prev
     for s in range(s_first, s_last + 1):
@@ -613,11 +730,16 @@ def run_steps(
             u_lo = min(u_s, u_e, u_cur)
             u_hi = max(u_s, u_e, u_cur)
             d_max = max(d_s, d_e)
-            count = candidate_bounds(
-                surf, cull, math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
-                surf.placement - d_max - material.reach, buf_idx, buf_bound,
-            )  # fmt: skip
-            if moving:
+            lo = math.floor(-u_hi / dx) - 1
+            hi = math.floor(-u_lo / dx) + 1
+            thr = surf.placement - d_max - material.reach
+            if sliding:
+                count = candidate_blocks(surf, cull, lo, hi, thr, blocks)
+            else:
+                count = candidate_bounds(surf, cull, lo, hi, thr, buf_idx, buf_bound)
+            if sliding:
+                pass
+            elif moving:
                 cand = buf_idx[:count]
                 bound = buf_bound[:count]
             else:
@@ -631,11 +753,21 @@ def run_steps(
         d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
         du = u - u_cur
         dd = d - d_cur
-        sums = path_step(
-            u, d, du, dd, True, surf, cand, bound, not moving, material,
-            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch, springs.claimed,
-            False, pre_gap, pre_s1, pre_s2,
-        )  # fmt: skip
+        window = migrate_cells_of(du, dd, dx, surf.f_l.size)
+        if sliding:
+            n_runs = step_runs(
+                surf, cull, blocks[:count], u / dx, surf.placement - d - material.reach,
+                run_start, run_len,
+            )  # fmt: skip
+            sums = slide_step(
+                u, d, du, dd, surf, run_start, run_len, n_runs, material, window, springs,
+                scratch,
+            )  # fmt: skip
+        else:
+            sums = path_step(
+                u, d, du, dd, True, surf, cand, bound, not moving, material, window, springs,
+                scratch, springs.claimed, False, pre_gap, pre_s1, pre_s2,
+            )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
         out[row, 1] = u
