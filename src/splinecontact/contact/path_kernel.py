@@ -57,16 +57,19 @@ __all__ = [
 
 
 class Springs(NamedTuple):
-    """Spring state per lower grid cell (the committed contacts) and the migration flags."""
+    """The committed contacts (slot p < n_committed, in grid order) and the migration flags.
 
-    acc: NDArray[np.bool_]  # cell holds a committed contact
-    ft: NDArray[np.float64]  # its spring force [mN/µm]
+    Stored compactly by slot, not by grid cell, so that a step touches only a few cache lines.
+    """
+
+    acc: NDArray[np.bool_]  # unused (kept for the record layout; its size is the grid's)
+    ft: NDArray[np.float64]  # spring force of slot p [mN/µm]
     xc: NDArray[np.float64]  # its centre x [µm]
     ex: NDArray[np.float64]  # its repulsive direction [1]
     ez: NDArray[np.float64]
-    cells: NDArray[np.int64]  # the committed cells
+    cells: NDArray[np.int64]  # its cell (ascending)
     n_committed: NDArray[np.int64]  # how many (one value)
-    claimed: NDArray[np.bool_]  # scratch of the migration
+    claimed: NDArray[np.bool_]  # scratch of the migration (by slot)
 
 
 class Scratch(NamedTuple):
@@ -82,7 +85,7 @@ class Scratch(NamedTuple):
     reff: NDArray[np.float64]  # effective radius [µm]
     ft: NDArray[np.float64]  # tangential force [mN/µm]
     slip: NDArray[np.bool_]  # slipping
-    src: NDArray[np.int64]  # previous cell continued (−1: new contact)
+    src: NDArray[np.int64]  # previous contact (slot) continued (−1: new contact)
     width: NDArray[np.float64]  # contact half-width [µm] (share of A_S)
     # the closed points of the configuration (gap ≤ reach), packed for the acceptance filter
     cl_i: NDArray[np.int64]  # lower grid index
@@ -245,29 +248,31 @@ def _migrate(
     pairs are assigned greedily by increasing distance between the previous and the new centre
     (independent of the visiting order, hence mirror symmetric).
     """
-    st_acc = springs.acc
     claimed = springs.claimed
     c_idx = scratch.idx
     c_src = scratch.src
+    n_old = springs.n_committed[0]
+    cells = springs.cells[:n_old]  # ascending
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
-        if st_acc[i]:
-            c_src[c] = i
-            claimed[i] = True
-    # The vanished previous contacts (committed, not continued in their own cell), sorted: the
+        p = np.searchsorted(cells, i)
+        if p < n_old and cells[p] == i:
+            c_src[c] = p
+            claimed[p] = True
+    # The vanished previous contacts (not continued in their own cell), in grid order: the
     # candidates of a contact are found by bisection instead of visiting its 2·migrate_cells
     # neighbours, and generated in the same order (by |q − i|, then the left one first).
-    n_old = springs.n_committed[0]
-    vanished = np.empty(n_old, dtype=np.int64)
+    vanished = np.empty(n_old, dtype=np.int64)  # their cells
+    slot = np.empty(n_old, dtype=np.int64)
     n_v = 0
     for p in range(n_old):
-        q = springs.cells[p]
-        if not claimed[q]:
-            vanished[n_v] = q
+        if not claimed[p]:
+            vanished[n_v] = cells[p]
+            slot[n_v] = p
             n_v += 1
-    vanished = np.sort(vanished[:n_v])
-    first = np.empty(n_c, dtype=np.int64)  # first vanished cell > i − migrate_cells − 1
+    vanished = vanished[:n_v]
+    first = np.empty(n_c, dtype=np.int64)  # first vanished cell ≥ i − migrate_cells
     n_pairs = 0
     for c in range(n_c):
         if c_src[c] >= 0:
@@ -294,10 +299,10 @@ def _migrate(
                 has_left = left >= lo
                 has_right = right < n_v and vanished[right] - i <= migrate_cells
                 if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
-                    q = vanished[left]
+                    q = slot[left]
                     left -= 1
                 elif has_right:
-                    q = vanished[right]
+                    q = slot[right]
                     right += 1
                 else:
                     break
@@ -577,23 +582,32 @@ def _settle(
         if f_n != 0.0 or scratch.width[c] > 0.0:
             n_touch += 1  # a law acting at a gap also visits points it leaves without force
     if commit:
-        for p in range(springs.n_committed[0]):
-            springs.acc[springs.cells[p]] = False
+        # The committed contacts are kept in grid order (slot p: cell springs.cells[p]).
+        idx = scratch.idx[:n_c]
+        ordered = True
+        for c in range(1, n_c):
+            if idx[c] < idx[c - 1]:
+                ordered = False
+                break
+        order = np.arange(n_c) if ordered else np.argsort(idx, kind="mergesort")
         # A contact of the previous step that is not accepted now has let go (laws with a
         # branch state: JKR, Maugis–Dugdale); its plastic history stays.
-        for c in range(n_c):
-            springs.acc[scratch.idx[c]] = True
-        for p in range(springs.n_committed[0]):
-            if not springs.acc[springs.cells[p]]:
-                release_law(code, law_state, springs.cells[p])
-        for c in range(n_c):
-            i = scratch.idx[c]
-            springs.acc[i] = True
-            springs.ft[i] = scratch.ft[c]
-            springs.xc[i] = scratch.xc[c]
-            springs.ex[i] = scratch.ex[c]
-            springs.ez[i] = scratch.ez[c]
-            springs.cells[c] = i
+        n_old = springs.n_committed[0]
+        r = 0
+        for p in range(n_old):
+            q = springs.cells[p]
+            while r < n_c and idx[order[r]] < q:
+                r += 1
+            if r == n_c or idx[order[r]] != q:
+                release_law(code, law_state, q)
+        for r in range(n_c):
+            c = order[r]
+            i = idx[c]
+            springs.cells[r] = i
+            springs.ft[r] = scratch.ft[c]
+            springs.xc[r] = scratch.xc[c]
+            springs.ex[r] = scratch.ex[c]
+            springs.ez[r] = scratch.ez[c]
             commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
         springs.n_committed[0] = n_c
     return StepSums(
