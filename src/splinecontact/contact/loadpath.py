@@ -30,9 +30,9 @@ from numpy.typing import NDArray
 from ..errors import ForceControlError, LoadPathError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
-from ..spheres import own_frame_geometry
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
+from ._culling import own_frame_arrays
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
@@ -144,7 +144,11 @@ class _Candidates:
 def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geometry:
     dx = lower.dx
     r_min = 0.5 * dx
-    kappa_l, nl_x, nl_z = own_frame_geometry(fit_l.slope, fit_l.second_derivative, r_min)
+    kappa_l, nl_x, nl_z = own_frame_arrays(
+        np.ascontiguousarray(fit_l.slope, dtype=np.float64),
+        np.ascontiguousarray(fit_l.second_derivative, dtype=np.float64),
+        r_min,
+    )
     flat = fit_u is None
     f_l = np.ascontiguousarray(fit_l.f, dtype=np.float64)
     if fit_u is None:

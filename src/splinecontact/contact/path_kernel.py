@@ -339,9 +339,7 @@ def path_step(
     scratch: Scratch,
     fixed: NDArray[np.bool_],
     use_fixed: bool,
-    pre_gap: NDArray[np.float64],
-    pre_s1: NDArray[np.float64],
-    pre_s2: NDArray[np.float64],
+    pre: NDArray[np.float64],
 ) -> StepSums:  # pragma: no cover - compiled
     """One configuration (u, δ_N) of the upper body; see the module docstring.
 
@@ -387,17 +385,23 @@ def path_step(
         n_packed = n_closed
         if not use_fixed:
             _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
-    elif pre_gap.size > 0:
+    elif pre.shape[0] > 0:
         # A fixed shift: the upper body's values at the candidates were computed once.
         for j in range(cand.size):
             if bound[j] < threshold:
                 if descending:
                     break
                 continue
-            g = pre_gap[j] - d
+            g = pre[j, 0] - d
             if g > reach:
                 continue
-            _pack(scratch, n_closed, surf, cand[j], g, pre_s1[j], pre_s2[j])
+            scratch.cl_i[n_closed] = cand[j]
+            scratch.cl_g[n_closed] = g
+            scratch.cl_s1[n_closed] = pre[j, 1]
+            scratch.cl_s2[n_closed] = pre[j, 2]
+            scratch.cl_kl[n_closed] = pre[j, 3]
+            scratch.cl_nx[n_closed] = pre[j, 4]
+            scratch.cl_nz[n_closed] = pre[j, 5]
             n_closed += 1
         n_packed = n_closed
         _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
@@ -640,40 +644,39 @@ def path_step_from_python(
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE, _NONE,
-        _NONE,
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE,
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
 
 #: No precomputed values (:func:`path_step` then evaluates the upper body itself).
-_NONE = np.empty(0)
+_NONE = np.empty((0, 6))
 
 
 @numba.njit(cache=True, nogil=True)
 def _fixed_shift_values(
     surf: Surfaces, cand: NDArray[np.int64], shift: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
-    """C − (h^u + f^l), S′ and S″ of the upper body at the candidates, for a fixed shift.
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Per candidate, for a fixed shift: C − (h^u + f^l), S′, S″, κ^l, n^l_x, n^l_z.
 
-    The same scalar evaluation as :func:`path_step`'s (so the gap C − (h^u + f^l) − δ_N is the
-    same to the bit); a candidate outside the upper body gets an infinite value (never closed).
+    The upper values by the same scalar evaluation as :func:`path_step`'s (so the gap
+    C − (h^u + f^l) − δ_N is the same to the bit); a candidate outside the upper body gets an
+    infinite gap (never closed). One row per candidate, in the candidates' order, so that the
+    steps read them contiguously.
     """
     m = cand.size
-    gap = np.empty(m)
-    s1 = np.empty(m)
-    s2 = np.empty(m)
+    out = np.empty((m, 6))
     for j in range(m):
         i = cand[j]
         inside, h_u, k, t = _upper_height(surf, i, shift)
-        if not inside:
-            gap[j] = np.inf
-            s1[j] = 0.0
-            s2[j] = 0.0
-            continue
-        gap[j] = surf.placement - (h_u + surf.f_l[i])
-        s1[j], s2[j] = _upper_slopes(surf, k, t)
-    return gap, s1, s2
+        s1, s2 = _upper_slopes(surf, k, t) if inside else (0.0, 0.0)
+        out[j, 0] = surf.placement - (h_u + surf.f_l[i]) if inside else np.inf
+        out[j, 1] = s1
+        out[j, 2] = s2
+        out[j, 3] = surf.kappa_l[i]
+        out[j, 4] = surf.nl_x[i]
+        out[j, 5] = surf.nl_z[i]
+    return out
 
 
 @numba.njit(cache=True, nogil=True)
@@ -725,9 +728,7 @@ def run_steps(
     built_until = -1
     cand = buf_idx[:0]
     bound = buf_bound[:0]
-    pre_gap = buf_bound[:0]
-    pre_s1 = buf_bound[:0]
-    pre_s2 = buf_bound[:0]
+    pre = np.empty((0, 6))
     n_sub = cull.f_l_sub.size if sliding else 0
     blocks = np.empty(cull.f_l_block.size if sliding else 0, dtype=np.int64)
     run_start = np.empty(n_sub, dtype=np.int64)
@@ -761,7 +762,7 @@ def run_steps(
                 cand = buf_idx[:count][order]
                 bound = buf_bound[:count][order]
                 if not surf.flat:
-                    pre_gap, pre_s1, pre_s2 = _fixed_shift_values(surf, cand, u_a / dx)
+                    pre = _fixed_shift_values(surf, cand, u_a / dx)
             built_until = s_end
         u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
         d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
@@ -780,7 +781,7 @@ def run_steps(
         else:
             sums = path_step(
                 u, d, du, dd, True, surf, cand, bound, not moving, material, window, springs,
-                scratch, springs.claimed, False, pre_gap, pre_s1, pre_s2,
+                scratch, springs.claimed, False, pre,
             )  # fmt: skip
         row = k0 + s - s_first
         out[row, 0] = d
