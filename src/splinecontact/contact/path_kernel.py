@@ -385,8 +385,10 @@ def path_step(
         n_packed = n_closed
         if not use_fixed:
             _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
-    elif pre.shape[0] > 0:
+    elif pre.shape[0] > 0 or descending:
         # A fixed shift: the upper body's values at the candidates were computed once.
+        if pre.shape[0] == 0:  # (or not: a reference evaluation, see path_step's doc)
+            pre = _fixed_shift_values(surf, cand, shift)
         for j in range(cand.size):
             if bound[j] < threshold:
                 if descending:
