@@ -33,6 +33,7 @@ from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
 from ._culling import own_frame_arrays
+from ._path_run import run_steps
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
@@ -479,7 +480,7 @@ def run_path(
                 else:
                     s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
                 state.ensure(n)
-                _k.run_steps(
+                run_steps(
                     u_a, d_a, u_b, d_target, n_steps, s, s_last, u_cur, d_cur,
                     float(_CHUNK_CELLS), geo.surf, geo.cull, state.cand_idx, state.cand_bound,
                     state.material, state.springs, state.scratch, table, k + s,
