@@ -49,6 +49,7 @@ __all__ = [
     "interval_envelope",
     "path_step",
     "path_step_from_python",
+    "run_steps",
 ]
 
 
@@ -624,3 +625,12 @@ def _fixed_shift_values(
 def migrate_cells_of(du: float, dd: float, dx: float, n: int) -> int:  # pragma: no cover
     """Cells [1] within which a vanished contact may continue: 1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉."""
     return 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / dx), n))
+
+
+def __getattr__(name: str) -> Any:
+    """``run_steps`` (and ``slide_step``) live in :mod:`._path_run`; kept importable here."""
+    if name in ("run_steps", "slide_step"):
+        from . import _path_run
+
+        return getattr(_path_run, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
