@@ -49,7 +49,7 @@ __all__ = [
     "interval_envelope",
     "path_step",
     "path_step_from_python",
-    "run_steps",
+    "run_steps",  # noqa: F822 - from ._path_run, through __getattr__
 ]
 
 
@@ -234,6 +234,20 @@ def _filter_closed(
         )
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _first_at_least(a: NDArray[np.int64], n: int, v: int) -> int:  # pragma: no cover - compiled
+    """Index of the first of the ascending a[:n] that is ≥ v (n if none)."""
+    lo = 0
+    hi = n
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
 @numba.njit(cache=True, nogil=True)
 def _migrate(
     n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch
@@ -253,7 +267,7 @@ def _migrate(
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
-        p = np.searchsorted(cells, i)
+        p = _first_at_least(cells, n_old, i)
         if p < n_old and cells[p] == i:
             c_src[c] = p
             claimed[p] = True
@@ -275,8 +289,8 @@ def _migrate(
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        lo = np.searchsorted(vanished, i - migrate_cells)
-        hi = np.searchsorted(vanished, i + migrate_cells, side="right")
+        lo = _first_at_least(vanished, n_v, i - migrate_cells)
+        hi = _first_at_least(vanished, n_v, i + migrate_cells + 1)
         first[c] = lo
         n_pairs += hi - lo
     if n_pairs > 0:
@@ -288,7 +302,7 @@ def _migrate(
             if c_src[c] >= 0:
                 continue
             i = c_idx[c]
-            mid = np.searchsorted(vanished, i)  # vanished[mid − 1] < i ≤ vanished[mid]
+            mid = _first_at_least(vanished, n_v, i)  # vanished[mid − 1] < i ≤ vanished[mid]
             left = mid - 1
             right = mid
             lo = first[c]
@@ -535,7 +549,12 @@ def _settle(
             if idx[c] < idx[c - 1]:
                 ordered = False
                 break
-        order = np.arange(n_c) if ordered else np.argsort(idx, kind="mergesort")
+        order = scratch.src  # (read no more) the commit order: grid order
+        if ordered:
+            for c in range(n_c):
+                order[c] = c
+        else:
+            order[:n_c] = np.argsort(idx, kind="mergesort")
         # A contact of the previous step that is not accepted now has let go (laws with a
         # branch state: JKR, Maugis–Dugdale); its plastic history stays.
         n_old = springs.n_committed[0]
