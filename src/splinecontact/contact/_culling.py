@@ -20,6 +20,7 @@ __all__ = [
     "block_max",
     "candidate_blocks",
     "candidate_bounds",
+    "first_at_least",
     "interval_envelope",
     "run_flags",
     "sliding_flags",
@@ -547,3 +548,17 @@ def own_frame_arrays(
         n_x[i] = -s / norm
         n_z[i] = 1.0 / norm
     return kappa, n_x, n_z
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def first_at_least(a: NDArray[np.int64], n: int, v: int) -> int:  # pragma: no cover - compiled
+    """Index of the first of the ascending a[:n] that is ≥ v (n if none)."""
+    lo = 0
+    hi = n
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo

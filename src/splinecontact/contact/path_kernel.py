@@ -32,6 +32,7 @@ from ._culling import (
     Surfaces,
     block_max,
     candidate_bounds,
+    first_at_least,
     interval_envelope,
     sliding_flags,
 )
@@ -234,20 +235,6 @@ def _filter_closed(
         )
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
-def _first_at_least(a: NDArray[np.int64], n: int, v: int) -> int:  # pragma: no cover - compiled
-    """Index of the first of the ascending a[:n] that is ≥ v (n if none)."""
-    lo = 0
-    hi = n
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if a[mid] < v:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
 @numba.njit(cache=True, nogil=True)
 def _migrate(
     n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch
@@ -267,7 +254,7 @@ def _migrate(
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
-        p = _first_at_least(cells, n_old, i)
+        p = first_at_least(cells, n_old, i)
         if p < n_old and cells[p] == i:
             c_src[c] = p
             claimed[p] = True
@@ -289,8 +276,8 @@ def _migrate(
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        lo = _first_at_least(vanished, n_v, i - migrate_cells)
-        hi = _first_at_least(vanished, n_v, i + migrate_cells + 1)
+        lo = first_at_least(vanished, n_v, i - migrate_cells)
+        hi = first_at_least(vanished, n_v, i + migrate_cells + 1)
         first[c] = lo
         n_pairs += hi - lo
     if n_pairs > 0:
@@ -302,7 +289,7 @@ def _migrate(
             if c_src[c] >= 0:
                 continue
             i = c_idx[c]
-            mid = _first_at_least(vanished, n_v, i)  # vanished[mid − 1] < i ≤ vanished[mid]
+            mid = first_at_least(vanished, n_v, i)  # vanished[mid − 1] < i ≤ vanished[mid]
             left = mid - 1
             right = mid
             lo = first[c]
