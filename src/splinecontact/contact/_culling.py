@@ -7,13 +7,25 @@ whose rigid gap can close at a tangential shift within a window and a normal dis
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Culling", "Surfaces", "block_max", "candidate_bounds", "interval_envelope"]
+__all__ = [
+    "Culling",
+    "Surfaces",
+    "block_max",
+    "candidate_blocks",
+    "candidate_bounds",
+    "first_at_least",
+    "interval_envelope",
+    "run_flags",
+    "sliding_flags",
+    "step_runs",
+]
 
 
 class Surfaces(NamedTuple):
@@ -44,6 +56,9 @@ class Culling(NamedTuple):
     envelope_super: NDArray[np.float64]
     per_super: int
     margin: float  # rounding margin of the bounds [µm]
+    f_l_sub: NDArray[np.float64]  # maxima of sub-blocks of ``sub`` points (block = 4 sub-blocks)
+    envelope_sub: NDArray[np.float64]
+    sub: int
 
 
 @numba.njit(cache=True, nogil=True)
@@ -181,3 +196,369 @@ def candidate_bounds(
                     out_bound[count] = v
                     count += 1
     return count
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _may_touch(
+    g: float,
+    s1: float,
+    s2: float,
+    k_l: float,
+    n_x: float,
+    n_z: float,
+    kappa_max: float,
+    lim: float,
+    min_delta: float,
+) -> bool:  # pragma: no cover - compiled
+    """The conservative filter of :func:`.path_kernel._filter_closed` for one point."""
+    norm_u = math.sqrt(1.0 + s1 * s1)
+    k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
+    m_x = s1 / norm_u
+    m_z = 1.0 / norm_u
+    k_sum = k_l + k_u
+    k_prod = k_u * k_l
+    y_x = k_l * m_x + k_u * n_x
+    y_z = k_prod * g + k_l * m_z + k_u * n_z
+    y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+    dmx = m_x - n_x
+    dmz = m_z - n_z
+    num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
+    delta = num / (y_norm + k_sum)
+    off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
+    return (
+        (k_sum > 0.0)
+        & (y_norm > 0.0)
+        & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
+        & (abs(off) <= lim * y_norm)
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _run_flags(
+    surf: Surfaces,
+    i0: int,
+    k0: int,
+    shift: float,
+    d: float,
+    reach: float,
+    f_l: NDArray[np.float64],
+    kappa_l: NDArray[np.float64],
+    nl_x: NDArray[np.float64],
+    nl_z: NDArray[np.float64],
+    f_u: NDArray[np.float64],
+    gamma_u: NDArray[np.float64],
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
+
+    The arrays are views starting at point i0 (lower), knot k0 (upper) and the run's first
+    flag; contiguous, so that the loop runs on vector units. A point whose knot interval
+    ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
+    (evaluated again alone).
+    """
+    placement = surf.placement
+    kappa_max = surf.kappa_max
+    inv_dx = 1.0 / surf.dx
+    lim = surf.dx * (1.0 + 1e-6)
+    min_delta = -reach
+    n_closed = 0
+    for p in range(flags.size):
+        xi = (i0 + p) - shift
+        k = math.floor(xi)
+        t = xi - k
+        same = (k == k0 + p) & (t != 0.0)
+        w = 1.0 - t
+        fk = f_u[p]
+        fk1 = f_u[p + 1]
+        g0 = gamma_u[p]
+        g1 = gamma_u[p + 1]
+        h_u = w * fk + t * fk1 + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
+        s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
+        s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
+        g = (placement - (h_u + f_l[p])) - d
+        closed = same & (not g > reach)
+        n_closed += closed
+        keep = closed & _may_touch(
+            g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
+        )
+        flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _knot_flags(
+    surf: Surfaces,
+    d: float,
+    reach: float,
+    f_l: NDArray[np.float64],
+    kappa_l: NDArray[np.float64],
+    nl_x: NDArray[np.float64],
+    nl_z: NDArray[np.float64],
+    f_u: NDArray[np.float64],
+    slope_u: NDArray[np.float64],
+    curv_u: NDArray[np.float64],
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
+    placement = surf.placement
+    kappa_max = surf.kappa_max
+    lim = surf.dx * (1.0 + 1e-6)
+    min_delta = -reach
+    n_closed = 0
+    for p in range(flags.size):
+        s1 = slope_u[p]
+        g = (placement - (f_u[p] + f_l[p])) - d
+        closed = not g > reach
+        n_closed += closed
+        keep = closed & _may_touch(
+            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
+        )
+        flags[p] = np.uint8(keep)
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True)
+def _flag_run(
+    surf: Surfaces,
+    i0: int,
+    length: int,
+    shift: float,
+    d: float,
+    reach: float,
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed."""
+    top = surf.f_u.size - 2  # last knot interval
+    k0 = math.floor(i0 - shift)
+    p_lo = min(max(0, -k0), length)
+    p_hi = max(min(length, top - k0 + 1), p_lo)
+    for p in range(p_lo):
+        flags[p] = 2
+    for p in range(p_hi, length):
+        flags[p] = 2
+    if p_hi == p_lo:
+        return 0
+    a = i0 + p_lo
+    b = k0 + p_lo
+    e = i0 + p_hi
+    if shift == math.floor(shift):
+        # i − shift is exact: every point is on knot k0 + p
+        return _knot_flags(
+            surf, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e],
+            surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a], surf.curv_u[b : b + e - a],
+            flags[p_lo:p_hi],
+        )  # fmt: skip
+    return _run_flags(
+        surf, a, b, shift, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e],
+        surf.nl_z[a:e], surf.f_u[b : b + e - a + 1], surf.gamma_u[b : b + e - a + 1],
+        flags[p_lo:p_hi],
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True)
+def sliding_flags(
+    surf: Surfaces,
+    cand: NDArray[np.int64],
+    bound: NDArray[np.float64],
+    shift: float,
+    d: float,
+    threshold: float,
+    reach: float,
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """Closed candidates that may pass Table 1, δ > −reach and eq. 9 at shift u/dx (``flags``).
+
+    A branch-free pass over the candidates (grid order) of a rough upper body, run by runs of
+    consecutive points (:func:`_run_flags`): the shifted spline's height, slope and f″ at
+    ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
+    evaluation, so the values are the same to the bit), the gap g, and the conservative eq. 9
+    filter of the kernel (tests widened by a relative 10⁻⁶ of dx/2 and 10⁻⁹ of the overlap
+    scale). ``flags[j]`` is 1 for the candidates that are inside the upper body, have
+    ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset of those the exact
+    tests accept), 2 for the few the pass could not decide (to be evaluated alone), 0 for the
+    rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
+    those flagged 0 or 1.
+    """
+    m = cand.size
+    n_closed = 0
+    j0 = 0
+    while j0 < m:
+        i0 = cand[j0]
+        j1 = j0 + 1
+        while j1 < m and cand[j1] == i0 + (j1 - j0):
+            j1 += 1
+        n_closed += _flag_run(surf, i0, j1 - j0, shift, d, reach, flags[j0:j1])
+        j0 = j1
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True)
+def candidate_blocks(
+    surf: Surfaces,
+    cull: Culling,
+    offset_lo: int,
+    offset_hi: int,
+    threshold: float,
+    out_blocks: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """Blocks (of ``cull.block`` points, grid order) whose rigid gap can close (rough upper body).
+
+    The block and super-block culling of :func:`candidate_bounds` (knot intervals
+    k ∈ [i + offset_lo, i + offset_hi]), without the point level: a block is kept when the
+    maximum of f^l over it plus the largest interval envelope over its window is ≥
+    ``threshold``. Returns how many were written to ``out_blocks``.
+    """
+    f_l = surf.f_l
+    f_l_block = cull.f_l_block
+    envelope_block = cull.envelope_block
+    block = cull.block
+    f_l_super = cull.f_l_super
+    envelope_super = cull.envelope_super
+    per_super = cull.per_super
+    margin = cull.margin
+    n = f_l.size
+    m = cull.envelope.size
+    nb = f_l_block.size
+    m_super = envelope_super.size
+    span = block * per_super
+    count = 0
+    for sb in range(f_l_super.size):
+        p0 = sb * span
+        s_lo = max(0, p0 + offset_lo)
+        s_hi = min(m - 1, min(n, p0 + span) - 1 + offset_hi)
+        if s_hi < s_lo:
+            continue
+        e_super = -np.inf
+        for ks in range(s_lo // span, min(m_super - 1, s_hi // span) + 1):
+            if envelope_super[ks] > e_super:
+                e_super = envelope_super[ks]
+        if f_l_super[sb] + e_super + margin < threshold:
+            continue
+        for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
+            i0 = b * block
+            k_lo = max(0, i0 + offset_lo)
+            k_hi = min(m - 1, min(n, i0 + block) - 1 + offset_hi)
+            if k_hi < k_lo:
+                continue
+            e_max = -np.inf
+            for kb in range(k_lo // block, k_hi // block + 1):
+                if envelope_block[kb] > e_max:
+                    e_max = envelope_block[kb]
+            if f_l_block[b] + e_max + margin >= threshold:
+                out_blocks[count] = b
+                count += 1
+    return count
+
+
+@numba.njit(cache=True, nogil=True)
+def step_runs(
+    surf: Surfaces,
+    cull: Culling,
+    blocks: NDArray[np.int64],
+    shift: float,
+    threshold: float,
+    run_start: NDArray[np.int64],
+    run_len: NDArray[np.int64],
+) -> int:  # pragma: no cover - compiled
+    """Runs of consecutive points whose rigid gap can close at one shift (grid order).
+
+    Within the given ``blocks`` (which must hold every block that can touch at this shift,
+    :func:`candidate_blocks`), each sub-block of ``cull.sub`` points i0 … i1 is kept when the
+    maximum of f^l over it plus the largest interval envelope on the knot intervals
+    ⌊i0 − shift⌋ − 1 … ⌊i1 − shift⌋ + 1 (those its points evaluate, with one interval to spare
+    for rounding) is ≥ ``threshold``; kept neighbours are merged. Returns the number of runs
+    (start point, length) written.
+    """
+    n = surf.f_l.size
+    f_l_sub = cull.f_l_sub
+    envelope_sub = cull.envelope_sub
+    sub = cull.sub
+    per_block = cull.block // sub
+    margin = cull.margin
+    m = cull.envelope.size
+    n_sub = f_l_sub.size
+    n_runs = 0
+    end = -1  # one past the last kept point
+    for b in blocks:
+        for q in range(b * per_block, min(n_sub, (b + 1) * per_block)):
+            i0 = q * sub
+            i1 = min(n, i0 + sub) - 1
+            k_lo = max(0, math.floor(i0 - shift) - 1)
+            k_hi = min(m - 1, math.floor(i1 - shift) + 1)
+            if k_hi < k_lo:
+                continue
+            e_max = -np.inf
+            for kq in range(k_lo // sub, k_hi // sub + 1):
+                if envelope_sub[kq] > e_max:
+                    e_max = envelope_sub[kq]
+            if f_l_sub[q] + e_max + margin < threshold:
+                continue
+            if i0 == end:
+                run_len[n_runs - 1] += i1 + 1 - i0
+            else:
+                run_start[n_runs] = i0
+                run_len[n_runs] = i1 + 1 - i0
+                n_runs += 1
+            end = i1 + 1
+    return n_runs
+
+
+@numba.njit(cache=True, nogil=True)
+def run_flags(
+    surf: Surfaces,
+    run_start: NDArray[np.int64],
+    run_len: NDArray[np.int64],
+    n_runs: int,
+    shift: float,
+    d: float,
+    reach: float,
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order)."""
+    n_closed = 0
+    o = 0
+    for r in range(n_runs):
+        length = run_len[r]
+        n_closed += _flag_run(surf, run_start[r], length, shift, d, reach, flags[o : o + length])
+        o += length
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def own_frame_arrays(
+    slope: NDArray[np.float64], second_derivative: NDArray[np.float64], r_min: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
+    """:func:`splinecontact.spheres.own_frame_geometry` in one compiled pass (same values).
+
+    κ = −f″/(1 + f′²)^{3/2} clamped to |κ| ≤ 1/r_min [1/µm], n = (−f′, 1)/√(1 + f′²) [1],
+    operation for operation as there.
+    """
+    n = slope.size
+    kappa = np.empty(n)
+    n_x = np.empty(n)
+    n_z = np.empty(n)
+    lo = -1.0 / r_min
+    hi = 1.0 / r_min
+    for i in range(n):
+        s = slope[i]
+        norm = math.sqrt(1.0 + s * s)
+        k = -second_derivative[i] / (norm * norm * norm)
+        k = lo if k < lo else k
+        kappa[i] = hi if k > hi else k
+        n_x[i] = -s / norm
+        n_z[i] = 1.0 / norm
+    return kappa, n_x, n_z
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def first_at_least(a: NDArray[np.int64], n: int, v: int) -> int:  # pragma: no cover - compiled
+    """Index of the first of the ascending a[:n] that is ≥ v (n if none)."""
+    lo = 0
+    hi = n
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo

@@ -30,9 +30,10 @@ from numpy.typing import NDArray
 from ..errors import ForceControlError, LoadPathError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
-from ..spheres import own_frame_geometry
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
+from ._culling import own_frame_arrays
+from ._path_run import run_steps
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
@@ -44,6 +45,9 @@ FORCE_RTOL = 1e-9
 
 #: Block size [points] of the candidate culling.
 _BLOCK = 64
+
+#: Sub-block size [points] of a sliding step's candidate runs (divides _BLOCK).
+_SUB = 16
 
 #: Blocks per super-block of the candidate culling.
 _PER_SUPER = 16
@@ -115,6 +119,7 @@ def _scratch(capacity: int) -> _k.Scratch:
         cl_nx=np.empty(capacity),
         cl_nz=np.empty(capacity),
         cl_keep=np.empty(capacity, dtype=np.bool_),
+        cl_flag=np.empty(capacity, dtype=np.uint8),
     )
 
 
@@ -140,7 +145,11 @@ class _Candidates:
 def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geometry:
     dx = lower.dx
     r_min = 0.5 * dx
-    kappa_l, nl_x, nl_z = own_frame_geometry(fit_l.slope, fit_l.second_derivative, r_min)
+    kappa_l, nl_x, nl_z = own_frame_arrays(
+        np.ascontiguousarray(fit_l.slope, dtype=np.float64),
+        np.ascontiguousarray(fit_l.second_derivative, dtype=np.float64),
+        r_min,
+    )
     flat = fit_u is None
     f_l = np.ascontiguousarray(fit_l.f, dtype=np.float64)
     if fit_u is None:
@@ -158,8 +167,11 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         placement = float((f_u + f_l).max())
         envelope = _k.interval_envelope(f_u, gamma_u)
     scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
-    f_l_block = _k.block_max(f_l, _BLOCK)
-    envelope_block = _k.block_max(envelope, _BLOCK)
+    # maxima of sub-blocks, then of blocks of _BLOCK // _SUB sub-blocks (the same values)
+    f_l_sub = _k.block_max(f_l, _SUB)
+    envelope_sub = _k.block_max(envelope, _SUB)
+    f_l_block = _k.block_max(f_l_sub, _BLOCK // _SUB)
+    envelope_block = _k.block_max(envelope_sub, _BLOCK // _SUB)
     surf = _k.Surfaces(
         f_l=f_l,
         kappa_l=kappa_l,
@@ -183,6 +195,9 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         envelope_super=_k.block_max(envelope_block, _PER_SUPER),
         per_super=_PER_SUPER,
         margin=1e-12 * scale,
+        f_l_sub=f_l_sub,
+        envelope_sub=envelope_sub,
+        sub=_SUB,
     )
     return _Geometry(surf=surf, cull=cull, scale=scale, surf_tuple=tuple(surf))
 
@@ -465,7 +480,7 @@ def run_path(
                 else:
                     s_last = n_steps if rec.size == 0 else s + int(rec[0]) - 1
                 state.ensure(n)
-                _k.run_steps(
+                run_steps(
                     u_a, d_a, u_b, d_target, n_steps, s, s_last, u_cur, d_cur,
                     float(_CHUNK_CELLS), geo.surf, geo.cull, state.cand_idx, state.cand_bound,
                     state.material, state.springs, state.scratch, table, k + s,

@@ -27,7 +27,15 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._culling import Culling, Surfaces, block_max, candidate_bounds, interval_envelope
+from ._culling import (
+    Culling,
+    Surfaces,
+    block_max,
+    candidate_bounds,
+    first_at_least,
+    interval_envelope,
+    sliding_flags,
+)
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, tangential_spring
 
@@ -42,21 +50,24 @@ __all__ = [
     "interval_envelope",
     "path_step",
     "path_step_from_python",
-    "run_steps",
+    "run_steps",  # noqa: F822 - from ._path_run, through __getattr__
 ]
 
 
 class Springs(NamedTuple):
-    """Spring state per lower grid cell (the committed contacts) and the migration flags."""
+    """The committed contacts (slot p < n_committed, in grid order) and the migration flags.
 
-    acc: NDArray[np.bool_]  # cell holds a committed contact
-    ft: NDArray[np.float64]  # its spring force [mN/µm]
+    Stored compactly by slot, not by grid cell, so that a step touches only a few cache lines.
+    """
+
+    acc: NDArray[np.bool_]  # unused (kept for the record layout; its size is the grid's)
+    ft: NDArray[np.float64]  # spring force of slot p [mN/µm]
     xc: NDArray[np.float64]  # its centre x [µm]
     ex: NDArray[np.float64]  # its repulsive direction [1]
     ez: NDArray[np.float64]
-    cells: NDArray[np.int64]  # the committed cells
+    cells: NDArray[np.int64]  # its cell (ascending)
     n_committed: NDArray[np.int64]  # how many (one value)
-    claimed: NDArray[np.bool_]  # scratch of the migration
+    claimed: NDArray[np.bool_]  # scratch of the migration (by slot)
 
 
 class Scratch(NamedTuple):
@@ -72,7 +83,7 @@ class Scratch(NamedTuple):
     reff: NDArray[np.float64]  # effective radius [µm]
     ft: NDArray[np.float64]  # tangential force [mN/µm]
     slip: NDArray[np.bool_]  # slipping
-    src: NDArray[np.int64]  # previous cell continued (−1: new contact)
+    src: NDArray[np.int64]  # previous contact (slot) continued (−1: new contact)
     width: NDArray[np.float64]  # contact half-width [µm] (share of A_S)
     # the closed points of the configuration (gap ≤ reach), packed for the acceptance filter
     cl_i: NDArray[np.int64]  # lower grid index
@@ -83,6 +94,7 @@ class Scratch(NamedTuple):
     cl_nx: NDArray[np.float64]  # lower normal [1]
     cl_nz: NDArray[np.float64]
     cl_keep: NDArray[np.bool_]  # may pass Table 1, eq. 9 and δ > −reach (conservative)
+    cl_flag: NDArray[np.uint8]  # per candidate: 1 closed and kept, 2 undecided (sliding)
 
 
 class StepSums(NamedTuple):
@@ -162,6 +174,20 @@ def _upper_sphere(
     return k_u, s1 / norm_u, 1.0 / norm_u
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pack(
+    scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
+) -> None:  # pragma: no cover - compiled
+    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q."""
+    scratch.cl_i[q] = i
+    scratch.cl_g[q] = g
+    scratch.cl_s1[q] = s1
+    scratch.cl_s2[q] = s2
+    scratch.cl_kl[q] = surf.kappa_l[i]
+    scratch.cl_nx[q] = surf.nl_x[i]
+    scratch.cl_nz[q] = surf.nl_z[i]
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _filter_closed(
     n_cl: int, kappa_max: float, half_dx: float, min_delta: float, scratch: Scratch
@@ -220,26 +246,40 @@ def _migrate(
     pairs are assigned greedily by increasing distance between the previous and the new centre
     (independent of the visiting order, hence mirror symmetric).
     """
-    st_acc = springs.acc
     claimed = springs.claimed
     c_idx = scratch.idx
     c_src = scratch.src
-    n_pairs = 0
+    n_old = springs.n_committed[0]
+    cells = springs.cells[:n_old]  # ascending
     for c in range(n_c):
         c_src[c] = -1
         i = c_idx[c]
-        if st_acc[i]:
-            c_src[c] = i
-            claimed[i] = True
+        p = first_at_least(cells, n_old, i)
+        if p < n_old and cells[p] == i:
+            c_src[c] = p
+            claimed[p] = True
+    # The vanished previous contacts (not continued in their own cell), in grid order: the
+    # candidates of a contact are found by bisection instead of visiting its 2·migrate_cells
+    # neighbours, and generated in the same order (by |q − i|, then the left one first).
+    vanished = np.empty(n_old, dtype=np.int64)  # their cells
+    slot = np.empty(n_old, dtype=np.int64)
+    n_v = 0
+    for p in range(n_old):
+        if not claimed[p]:
+            vanished[n_v] = cells[p]
+            slot[n_v] = p
+            n_v += 1
+    vanished = vanished[:n_v]
+    first = np.empty(n_c, dtype=np.int64)  # first vanished cell ≥ i − migrate_cells
+    n_pairs = 0
     for c in range(n_c):
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        for r in range(1, migrate_cells + 1):
-            for sgn in (-1, 1):
-                q = i + sgn * r
-                if 0 <= q < n and st_acc[q] and not claimed[q]:
-                    n_pairs += 1
+        lo = first_at_least(vanished, n_v, i - migrate_cells)
+        hi = first_at_least(vanished, n_v, i + migrate_cells + 1)
+        first[c] = lo
+        n_pairs += hi - lo
     if n_pairs > 0:
         pair_c = np.empty(n_pairs, dtype=np.int64)
         pair_q = np.empty(n_pairs, dtype=np.int64)
@@ -249,14 +289,25 @@ def _migrate(
             if c_src[c] >= 0:
                 continue
             i = c_idx[c]
-            for r in range(1, migrate_cells + 1):
-                for sgn in (-1, 1):
-                    q = i + sgn * r
-                    if 0 <= q < n and st_acc[q] and not claimed[q]:
-                        pair_c[p] = c
-                        pair_q[p] = q
-                        pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
-                        p += 1
+            mid = first_at_least(vanished, n_v, i)  # vanished[mid − 1] < i ≤ vanished[mid]
+            left = mid - 1
+            right = mid
+            lo = first[c]
+            while True:
+                has_left = left >= lo
+                has_right = right < n_v and vanished[right] - i <= migrate_cells
+                if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
+                    q = slot[left]
+                    left -= 1
+                elif has_right:
+                    q = slot[right]
+                    right += 1
+                else:
+                    break
+                pair_c[p] = c
+                pair_q[p] = q
+                pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
+                p += 1
         order = np.argsort(pair_d, kind="mergesort")
         for o in order:
             c = pair_c[o]
@@ -286,6 +337,7 @@ def path_step(
     scratch: Scratch,
     fixed: NDArray[np.bool_],
     use_fixed: bool,
+    pre: NDArray[np.float64],
 ) -> StepSums:  # pragma: no cover - compiled
     """One configuration (u, δ_N) of the upper body; see the module docstring.
 
@@ -301,47 +353,120 @@ def path_step(
     free evaluation.
     """
     f_l = surf.f_l
-    n = f_l.size
     placement = surf.placement
     reach = material.reach
     threshold = placement - d - reach
     shift = u / surf.dx
     half_dx = 0.5 * surf.dx
     kappa_max = surf.kappa_max
+    # 1. The closed points (gap ≤ reach) that may be accepted are packed (cl_*, cl_keep).
+    n_closed = 0
+    n_packed = 0
+    if use_fixed or surf.flat:
+        # The gap of every candidate; the closed points are packed, then filtered.
+        for j in range(cand.size):
+            if bound[j] < threshold:
+                if descending:
+                    break
+                continue
+            i = cand[j]
+            # The height first: the slope and curvature only where the gap has closed.
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if g > reach and not (use_fixed and fixed[i]):
+                continue
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_closed, surf, i, g, s1, s2)
+            n_closed += 1
+        n_packed = n_closed
+        if not use_fixed:
+            _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
+    elif pre.shape[0] > 0 or descending:
+        # A fixed shift: the upper body's values at the candidates were computed once.
+        if pre.shape[0] == 0:  # (or not: a reference evaluation, see path_step's doc)
+            pre = _fixed_shift_values(surf, cand, shift)
+        for j in range(cand.size):
+            if bound[j] < threshold:
+                if descending:
+                    break
+                continue
+            g = pre[j, 0] - d
+            if g > reach:
+                continue
+            scratch.cl_i[n_closed] = cand[j]
+            scratch.cl_g[n_closed] = g
+            scratch.cl_s1[n_closed] = pre[j, 1]
+            scratch.cl_s2[n_closed] = pre[j, 2]
+            scratch.cl_kl[n_closed] = pre[j, 3]
+            scratch.cl_nx[n_closed] = pre[j, 4]
+            scratch.cl_nz[n_closed] = pre[j, 5]
+            n_closed += 1
+        n_packed = n_closed
+        _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
+    else:
+        # Sliding: one branch-free pass flags the few closed points the filter keeps; only
+        # those (and the few it could not decide) are evaluated again, alone, and packed.
+        flags = scratch.cl_flag
+        n_closed = sliding_flags(surf, cand, bound, shift, d, threshold, reach, flags)
+        for j in range(cand.size):
+            flag = flags[j]
+            if flag == 0:
+                continue
+            if flag == 2 and bound[j] < threshold:
+                continue
+            i = cand[j]
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if flag == 2:
+                if g > reach:
+                    continue
+                n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_packed, surf, i, g, s1, s2)
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
+
+    return _settle(
+        u, d, du, dd, commit, surf, material, migrate_cells, springs, scratch, fixed, use_fixed,
+        n_packed, n_closed,
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True)
+def _settle(
+    u: float,
+    d: float,
+    du: float,
+    dd: float,
+    commit: bool,
+    surf: Surfaces,
+    material: Material,
+    migrate_cells: int,
+    springs: Springs,
+    scratch: Scratch,
+    fixed: NDArray[np.bool_],
+    use_fixed: bool,
+    n_packed: int,
+    n_closed: int,
+) -> StepSums:  # pragma: no cover - compiled
+    """The packed closed points of a configuration decided exactly, the springs moved (eqs.
+    9–13); see :func:`path_step`. ``n_closed`` is reported as ``n_candidates``."""
+    f_l = surf.f_l
+    n = f_l.size
+    reach = material.reach
+    half_dx = 0.5 * surf.dx
+    kappa_max = surf.kappa_max
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    # 1. The gap of every candidate; the closed points (gap ≤ reach) are packed.
-    n_closed = 0
-    for j in range(cand.size):
-        if bound[j] < threshold:
-            if descending:
-                break
-            continue
-        i = cand[j]
-        # The height first: the slope and curvature only where the gap has closed.
-        inside, h_u, k, t = _upper_height(surf, i, shift)
-        if not inside:
-            continue
-        g = (placement - (h_u + f_l[i])) - d
-        if g > reach and not (use_fixed and fixed[i]):
-            continue
-        s1, s2 = _upper_slopes(surf, k, t)
-        scratch.cl_i[n_closed] = i
-        scratch.cl_g[n_closed] = g
-        scratch.cl_s1[n_closed] = s1
-        scratch.cl_s2[n_closed] = s2
-        scratch.cl_kl[n_closed] = surf.kappa_l[i]
-        scratch.cl_nx[n_closed] = surf.nl_x[i]
-        scratch.cl_nz[n_closed] = surf.nl_z[i]
-        n_closed += 1
-    # 2. Most closed points fail eq. 9: a branch-free conservative filter first.
-    if not use_fixed:
-        _filter_closed(n_closed, kappa_max, half_dx, -reach, scratch)
     cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
     n_c = 0
-    for q in range(n_closed):
+    for q in range(n_packed):
         i = scratch.cl_i[q]
         if use_fixed:
             if not fixed[i]:
@@ -404,23 +529,37 @@ def path_step(
         if f_n != 0.0 or scratch.width[c] > 0.0:
             n_touch += 1  # a law acting at a gap also visits points it leaves without force
     if commit:
-        for p in range(springs.n_committed[0]):
-            springs.acc[springs.cells[p]] = False
+        # The committed contacts are kept in grid order (slot p: cell springs.cells[p]).
+        idx = scratch.idx[:n_c]
+        ordered = True
+        for c in range(1, n_c):
+            if idx[c] < idx[c - 1]:
+                ordered = False
+                break
+        order = scratch.src  # (read no more) the commit order: grid order
+        if ordered:
+            for c in range(n_c):
+                order[c] = c
+        else:
+            order[:n_c] = np.argsort(idx, kind="mergesort")
         # A contact of the previous step that is not accepted now has let go (laws with a
         # branch state: JKR, Maugis–Dugdale); its plastic history stays.
-        for c in range(n_c):
-            springs.acc[scratch.idx[c]] = True
-        for p in range(springs.n_committed[0]):
-            if not springs.acc[springs.cells[p]]:
-                release_law(code, law_state, springs.cells[p])
-        for c in range(n_c):
-            i = scratch.idx[c]
-            springs.acc[i] = True
-            springs.ft[i] = scratch.ft[c]
-            springs.xc[i] = scratch.xc[c]
-            springs.ex[i] = scratch.ex[c]
-            springs.ez[i] = scratch.ez[c]
-            springs.cells[c] = i
+        n_old = springs.n_committed[0]
+        r = 0
+        for p in range(n_old):
+            q = springs.cells[p]
+            while r < n_c and idx[order[r]] < q:
+                r += 1
+            if r == n_c or idx[order[r]] != q:
+                release_law(code, law_state, q)
+        for r in range(n_c):
+            c = order[r]
+            i = idx[c]
+            springs.cells[r] = i
+            springs.ft[r] = scratch.ft[c]
+            springs.xc[r] = scratch.xc[c]
+            springs.ex[r] = scratch.ex[c]
+            springs.ez[r] = scratch.ez[c]
             commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
         springs.n_committed[0] = n_c
     return StepSums(
@@ -453,9 +592,39 @@ def path_step_from_python(
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed,
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE,
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
+
+
+#: No precomputed values (:func:`path_step` then evaluates the upper body itself).
+_NONE = np.empty((0, 6))
+
+
+@numba.njit(cache=True, nogil=True)
+def _fixed_shift_values(
+    surf: Surfaces, cand: NDArray[np.int64], shift: float
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """Per candidate, for a fixed shift: C − (h^u + f^l), S′, S″, κ^l, n^l_x, n^l_z.
+
+    The upper values by the same scalar evaluation as :func:`path_step`'s (so the gap
+    C − (h^u + f^l) − δ_N is the same to the bit); a candidate outside the upper body gets an
+    infinite gap (never closed). One row per candidate, in the candidates' order, so that the
+    steps read them contiguously.
+    """
+    m = cand.size
+    out = np.empty((m, 6))
+    for j in range(m):
+        i = cand[j]
+        inside, h_u, k, t = _upper_height(surf, i, shift)
+        s1, s2 = _upper_slopes(surf, k, t) if inside else (0.0, 0.0)
+        out[j, 0] = surf.placement - (h_u + surf.f_l[i]) if inside else np.inf
+        out[j, 1] = s1
+        out[j, 2] = s2
+        out[j, 3] = surf.kappa_l[i]
+        out[j, 4] = surf.nl_x[i]
+        out[j, 5] = surf.nl_z[i]
+    return out
 
 
 @numba.njit(cache=True, nogil=True)
@@ -464,93 +633,10 @@ def migrate_cells_of(du: float, dd: float, dx: float, n: int) -> int:  # pragma:
     return 1 + int(min(math.ceil(2.0 * (abs(du) + abs(dd)) / dx), n))
 
 
-@numba.njit(cache=True, nogil=True)
-def run_steps(
-    u_a: float,
-    d_a: float,
-    u_b: float,
-    d_b: float,
-    n_steps: int,
-    s_first: int,
-    s_last: int,
-    u_prev: float,
-    d_prev: float,
-    chunk_cells: float,
-    surf: Surfaces,
-    cull: Culling,
-    buf_idx: NDArray[np.int64],
-    buf_bound: NDArray[np.float64],
-    material: Material,
-    springs: Springs,
-    scratch: Scratch,
-    out: NDArray[np.float64],
-    k0: int,
-) -> None:  # pragma: no cover - compiled
-    """Steps ``s_first … s_last`` of a displacement-controlled segment, committed in order.
+def __getattr__(name: str) -> Any:
+    """``run_steps`` (and ``slide_step``) live in :mod:`._path_run`; kept importable here."""
+    if name in ("run_steps", "slide_step"):
+        from . import _path_run
 
-    Step s is at u = u_a + (u_b − u_a)·s/n_steps and δ_N = d_a + (d_b − d_a)·s/n_steps (exactly
-    u_b, d_b at s = n_steps). Without tangential motion one candidate list, sorted by decreasing
-    bound, serves all steps (each step visits the points whose gap can have closed); otherwise
-    the list is rebuilt, in grid order, every ``chunk_cells`` grid spacings of travel. ``out``
-    receives, per step (row k0 + s − s_first), δ_N, u_T and the 10 sums of :func:`path_step`.
-    """
-    dx = surf.dx
-    moving = u_b != u_a
-    if moving:
-        per_chunk = int(chunk_cells * n_steps / (abs(u_b - u_a) / dx))
-        if per_chunk < 1:
-            per_chunk = 1
-    else:
-        per_chunk = n_steps + 1
-    count = 0
-    built_until = -1
-    cand = buf_idx[:0]
-    bound = buf_bound[:0]
-    u_cur = u_prev
-    d_cur = d_prev
-    for s in range(s_first, s_last + 1):
-        if s > built_until:
-            s_end = min(n_steps, s + per_chunk - 1)
-            u_s = u_a + (u_b - u_a) * ((s - 1) / n_steps)
-            u_e = u_b if s_end == n_steps else u_a + (u_b - u_a) * (s_end / n_steps)
-            d_s = d_a + (d_b - d_a) * ((s - 1) / n_steps)
-            d_e = d_b if s_end == n_steps else d_a + (d_b - d_a) * (s_end / n_steps)
-            u_lo = min(u_s, u_e, u_cur)
-            u_hi = max(u_s, u_e, u_cur)
-            d_max = max(d_s, d_e)
-            count = candidate_bounds(
-                surf, cull, math.floor(-u_hi / dx) - 1, math.floor(-u_lo / dx) + 1,
-                surf.placement - d_max - material.reach, buf_idx, buf_bound,
-            )  # fmt: skip
-            if moving:
-                cand = buf_idx[:count]
-                bound = buf_bound[:count]
-            else:
-                order = np.argsort(-buf_bound[:count], kind="mergesort")
-                cand = buf_idx[:count][order]
-                bound = buf_bound[:count][order]
-            built_until = s_end
-        u = u_b if s == n_steps else u_a + (u_b - u_a) * (s / n_steps)
-        d = d_b if s == n_steps else d_a + (d_b - d_a) * (s / n_steps)
-        du = u - u_cur
-        dd = d - d_cur
-        sums = path_step(
-            u, d, du, dd, True, surf, cand, bound, not moving, material,
-            migrate_cells_of(du, dd, dx, surf.f_l.size), springs, scratch, springs.claimed,
-            False,
-        )  # fmt: skip
-        row = k0 + s - s_first
-        out[row, 0] = d
-        out[row, 1] = u
-        out[row, 2] = sums.normal_force
-        out[row, 3] = sums.tangential_force
-        out[row, 4] = sums.contact_area
-        out[row, 5] = sums.n_contacts
-        out[row, 6] = sums.n_slipping
-        out[row, 7] = sums.step_work
-        out[row, 8] = sums.normal_force_normal_part
-        out[row, 9] = sums.normal_force_tangential_part
-        out[row, 10] = sums.n_tilted_contacts
-        out[row, 11] = sums.n_candidates
-        u_cur = u
-        d_cur = d
+        return getattr(_path_run, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
