@@ -9,14 +9,15 @@ import time
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from ..errors import OutputExistsError, ParameterError
 from ..outputs import OUTPUT_MARKER, OutputFolder, atomic_path, prepare_output_folder
-from .findings import Finding, evaluate_findings
-from .report import write_report
+
+if TYPE_CHECKING:
+    from .findings import Finding
 
 __all__ = ["CONTACT_TYPES", "SCALES", "STUDY_SEED", "ReproduceResult", "reproduce", "study_mapping"]
 
@@ -221,6 +222,7 @@ def _figures(
     from ..plotting import build_figures, drawable_study, write_rendered
     from ._pool import render_job
     from .figures import _final_displacement, figure_inputs, hurst_dataset
+    from .findings import evaluate_findings
 
     job, future = illustrative
     outcome = future.result() if future is not None else None
@@ -352,6 +354,8 @@ def reproduce(
         figure_time = time.perf_counter() - t2
     finally:
         executor.close()
+    from .report import write_report
+
     findings_file = folder.file("findings.json")
     with atomic_path(findings_file) as tmp:
         tmp.write_text(
