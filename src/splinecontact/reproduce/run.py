@@ -17,6 +17,7 @@ from ..errors import OutputExistsError, ParameterError
 from ..outputs import OUTPUT_MARKER, OutputFolder, atomic_path, prepare_output_folder
 
 if TYPE_CHECKING:
+    from ._pool import IllustrativeOutcome
     from .findings import Finding
 
 __all__ = ["CONTACT_TYPES", "SCALES", "STUDY_SEED", "ReproduceResult", "reproduce", "study_mapping"]
@@ -225,10 +226,15 @@ def _figures(
     from .findings import evaluate_findings
 
     job, future = illustrative
-    outcome = future.result() if future is not None else None
+    outcome: IllustrativeOutcome | None = None
+    if future is not None:
+        try:
+            outcome = future.result()
+        except Exception:  # the worker died, ...: made again here below
+            outcome = None
     drawable, _ = drawable_study(ds)
     dims = [float(d) for d in drawable["dimension"].values] if "dimension" in drawable.dims else []
-    usable = (
+    if not (
         outcome is not None
         and job is not None
         and list(job.dimensions) == dims
@@ -236,9 +242,10 @@ def _figures(
             not outcome.rendered
             or outcome.final_displacement == _final_displacement(drawable, job.focus)
         )
-    )
+    ):
+        outcome = None
     rendered: dict[str, dict[str, bytes]] = {}
-    if usable:
+    if outcome is not None:
         rendered.update(outcome.rendered)
         measured = outcome.measured_hurst
         hurst = hurst_dataset(dims, measured) if measured is not None else None
