@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from splinecontact import reproduce
 from splinecontact.outputs import OUTPUT_MARKER, prepare_output_folder
 from splinecontact.plotting import render_figure, save_figure, write_rendered
+from splinecontact.reproduce import reproduce
 
 
 def _figure() -> Figure:
