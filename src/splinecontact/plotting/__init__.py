@@ -25,7 +25,15 @@ resolution are decimated before drawing (:func:`decimate`). Axes carry their uni
 
 from __future__ import annotations
 
-from ._base import decimate, dimension_colors, new_axes, save_figure, write_figures
+from ._base import (
+    decimate,
+    dimension_colors,
+    new_axes,
+    render_figure,
+    save_figure,
+    write_figures,
+    write_rendered,
+)
 from ._figures import FIGURE_FILES, build_figures, make_figures
 from ._friction import plot_friction_loop, plot_path_history, plot_study_vs_dimension
 from ._illustrative import IllustrativeInputs, illustrative_figures, make_illustrative_figures
@@ -79,8 +87,10 @@ __all__ = [
     "plot_spheres",
     "plot_spline_fits",
     "plot_study_vs_dimension",
+    "render_figure",
     "result_figures",
     "save_figure",
     "study_figures",
     "write_figures",
+    "write_rendered",
 ]

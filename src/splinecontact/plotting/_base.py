@@ -7,6 +7,7 @@ canvas when written.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -26,9 +27,11 @@ __all__ = [
     "dimension_colors",
     "figure_of",
     "new_axes",
+    "render_figure",
     "save_figure",
     "window",
     "write_figures",
+    "write_rendered",
 ]
 
 #: Heights in nm per µm (profiles are stored in µm, drawn in nm).
@@ -58,7 +61,7 @@ def figure_of(ax: Axes) -> Figure:
     return fig
 
 
-def _render(fig: Figure, path: Path, fmt: str, dpi: int) -> None:
+def _render(fig: Figure, path: Path | io.BytesIO, fmt: str, dpi: int) -> None:
     """One draw of ``fig`` into ``path`` by the canvas of ``fmt`` (Agg for PNG).
 
     SVG files carry no date and fixed element ids, so the same figure gives the same bytes.
@@ -68,6 +71,50 @@ def _render(fig: Figure, path: Path, fmt: str, dpi: int) -> None:
         kwargs["pil_kwargs"] = {"compress_level": _PNG_COMPRESS_LEVEL}
     with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "splinecontact"}):
         fig.savefig(path, dpi=dpi, format=fmt, **kwargs)
+
+
+def render_figure(
+    fig: Figure, *, formats: Sequence[str] = ("png", "svg"), dpi: int = 150
+) -> dict[str, bytes]:
+    """The bytes of ``fig`` in each of ``formats``: what :func:`save_figure` writes, in memory.
+
+    One draw per format, the constrained layout frozen after the first (as in
+    :func:`save_figure`), so a figure can be drawn in another process (figures pickle) and its
+    files written here by :func:`write_rendered`.
+    """
+    out: dict[str, bytes] = {}
+    for i, fmt in enumerate(formats):
+        buffer = io.BytesIO()
+        _render(fig, buffer, fmt, dpi)
+        out[fmt] = buffer.getvalue()
+        if i == 0 and fig.get_layout_engine() is not None:
+            fig.set_layout_engine("none")  # keep the first layout: no second constrained layout
+    return out
+
+
+def write_rendered(
+    rendered: Mapping[str, Mapping[str, bytes]], folder: OutputFolder, *, prefix: str = ""
+) -> dict[str, list[Path]]:
+    """Write figures drawn by :func:`render_figure` (name → format → bytes) into ``folder``.
+
+    Each file follows the package's output rule: announced to ``folder``, written to a
+    temporary name beside it and renamed (no partial file).
+
+    Returns
+    -------
+    dict of str to list of Path
+        Name → written files, in the order of ``rendered``.
+    """
+    written: dict[str, list[Path]] = {}
+    for name, files in rendered.items():
+        paths = []
+        for fmt, data in files.items():
+            path = folder.file(f"{prefix}{name}.{fmt}")
+            with atomic_path(path) as tmp:
+                tmp.write_bytes(data)
+            paths.append(path)
+        written[name] = paths
+    return written
 
 
 def save_figure(

@@ -31,21 +31,62 @@ Modules
 
 from __future__ import annotations
 
-from .findings import KAPPA_AGREEMENT_TOLERANCE as KAPPA_AGREEMENT_TOLERANCE
-from .findings import LINEAR_EXPONENT_RANGE as LINEAR_EXPONENT_RANGE
-from .findings import LOAD_QUANTILE as LOAD_QUANTILE
-from .findings import VERDICTS, Finding, evaluate_findings
-from .report import write_report
-from .run import CONTACT_TYPES as CONTACT_TYPES
-from .run import SCALES, ReproduceResult, reproduce, study_mapping
-from .run import STUDY_SEED as STUDY_SEED
-from .statistics import (
-    TrendTest,
-    bootstrap_means,
-    spearman_pvalue,
-    trend_from_estimates,
-    trend_test,
-)
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .findings import KAPPA_AGREEMENT_TOLERANCE as KAPPA_AGREEMENT_TOLERANCE
+    from .findings import LINEAR_EXPONENT_RANGE as LINEAR_EXPONENT_RANGE
+    from .findings import LOAD_QUANTILE as LOAD_QUANTILE
+    from .findings import VERDICTS, Finding, evaluate_findings
+    from .report import write_report
+    from .run import CONTACT_TYPES as CONTACT_TYPES
+    from .run import SCALES, ReproduceResult, reproduce, study_mapping
+    from .run import STUDY_SEED as STUDY_SEED
+    from .statistics import (
+        TrendTest,
+        bootstrap_means,
+        spearman_pvalue,
+        trend_from_estimates,
+        trend_test,
+    )
+
+#: Where each public name lives; imported on first use, so that ``reproduce`` starts its
+#: worker processes before this process loads the statistics and plotting libraries.
+_HOMES: dict[str, str] = {
+    "KAPPA_AGREEMENT_TOLERANCE": "findings",
+    "LINEAR_EXPONENT_RANGE": "findings",
+    "LOAD_QUANTILE": "findings",
+    "VERDICTS": "findings",
+    "Finding": "findings",
+    "evaluate_findings": "findings",
+    "write_report": "report",
+    "CONTACT_TYPES": "run",
+    "SCALES": "run",
+    "STUDY_SEED": "run",
+    "ReproduceResult": "run",
+    "reproduce": "run",
+    "study_mapping": "run",
+    "TrendTest": "statistics",
+    "bootstrap_means": "statistics",
+    "spearman_pvalue": "statistics",
+    "trend_from_estimates": "statistics",
+    "trend_test": "statistics",
+}
+
+
+def __getattr__(name: str) -> Any:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{home}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOMES})
+
 
 __all__ = [
     "SCALES",

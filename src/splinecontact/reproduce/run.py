@@ -9,14 +9,16 @@ import time
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from ..errors import OutputExistsError, ParameterError
 from ..outputs import OUTPUT_MARKER, OutputFolder, atomic_path, prepare_output_folder
-from .findings import Finding, evaluate_findings
-from .report import write_report
+
+if TYPE_CHECKING:
+    from ._pool import IllustrativeOutcome
+    from .findings import Finding
 
 __all__ = ["CONTACT_TYPES", "SCALES", "STUDY_SEED", "ReproduceResult", "reproduce", "study_mapping"]
 
@@ -156,24 +158,131 @@ def _prepare_reproduce_folder(out: Path, study_toml: str, *, overwrite: bool) ->
 
 
 def _run_reproduce_study(
-    config: Any, store: Path, *, workers: int | None, progress: bool, overwrite: bool
+    config: Any,
+    store: Path,
+    *,
+    progress: bool,
+    overwrite: bool,
+    workers: int | None = None,
+    executor: Any = None,
 ) -> None:
-    """Run the embedded study; with ``progress``, a progress bar and the summary on the terminal
-    (the study runner itself prints nothing)."""
+    """Run the embedded study (on ``executor``, else ``workers`` local processes); with
+    ``progress``, a progress bar and the summary on the terminal (the study runner itself
+    prints nothing)."""
     from ..errors import StudyExecutionError
     from ..study import StudyProgressBar, print_summary, run_study
 
+    where: dict[str, Any] = {"workers": workers} if executor is None else {"executor": executor}
     if not progress:
-        run_study(config, store, workers=workers, overwrite=overwrite)
+        run_study(config, store, overwrite=overwrite, **where)
         return
     with StudyProgressBar() as bar:
         try:
-            summary = run_study(config, store, workers=workers, progress=bar, overwrite=overwrite)
+            summary = run_study(config, store, progress=bar, overwrite=overwrite, **where)
         except StudyExecutionError as exc:
             if exc.summary is not None:
                 print_summary(exc.summary)
             raise
     print_summary(summary)
+
+
+def _start_illustrative(executor: Any, config: Any, hurst_profiles: int) -> tuple[Any, Any]:
+    """Submit the illustrative figures to the pool (they need the seed rule, not the results).
+
+    Returns (job, future), or (None, None) when the study has no ``dimension`` sweep.
+    """
+    from ._pool import draw_illustrative, illustrative_job
+
+    swept = dict(config.swept)
+    if "dimension" not in swept:
+        return None, None
+    fixed = {k: v for k, v in config.fixed_parameters.items() if v is not None}
+    job = illustrative_job(
+        swept["dimension"], fixed, config.study.seed, hurst_profiles=hurst_profiles
+    )
+    return job, executor.submit(draw_illustrative, job)
+
+
+def _figures(
+    ds: Any,
+    folder: OutputFolder,
+    *,
+    executor: Any,
+    illustrative: tuple[Any, Any],
+    kappa_options: Mapping[str, Any] | None,
+    hurst_profiles: int,
+) -> tuple[dict[str, list[Path]], Any, list[str], list[Finding]]:
+    """Every figure and the findings, once the study is stored.
+
+    The illustrative figures come from the worker that drew them during the study, if it drew
+    them for the same D values and the same final displacement as the stored study (else they
+    are made again here); the study figures are drawn here and rendered by the workers, one per
+    task, while this process evaluates the findings. Returns the written files by figure, the
+    Hurst exponents, the notes and the findings.
+    """
+    from ..plotting import build_figures, drawable_study, write_rendered
+    from ._pool import render_job
+    from .figures import _final_displacement, figure_inputs, hurst_dataset
+    from .findings import evaluate_findings
+
+    job, future = illustrative
+    outcome: IllustrativeOutcome | None = None
+    if future is not None:
+        try:
+            outcome = future.result()
+        except Exception:  # the worker died, ...: made again here below
+            outcome = None
+    drawable, _ = drawable_study(ds)
+    dims = [float(d) for d in drawable["dimension"].values] if "dimension" in drawable.dims else []
+    if not (
+        outcome is not None
+        and job is not None
+        and list(job.dimensions) == dims
+        and (
+            not outcome.rendered
+            or outcome.final_displacement == _final_displacement(drawable, job.focus)
+        )
+    ):
+        outcome = None
+    rendered: dict[str, dict[str, bytes]] = {}
+    if outcome is not None:
+        rendered.update(outcome.rendered)
+        measured = outcome.measured_hurst
+        hurst = hurst_dataset(dims, measured) if measured is not None else None
+        if hurst is None and hurst_profiles and dims:
+            from .. import analysis
+
+            hurst = analysis.study_hurst(ds, n_profiles=hurst_profiles)
+        inputs_notes = list(outcome.notes)
+        illustrative_inputs = None
+    else:  # made again here, from the stored study
+        inputs = figure_inputs(ds, hurst_profiles=hurst_profiles)
+        hurst, inputs_notes, illustrative_inputs = inputs.hurst, inputs.notes, inputs.illustrative
+    measured_hurst = (
+        None
+        if hurst is None
+        else {
+            float(d): float(h)
+            for d, h in zip(
+                hurst["dimension"].values, hurst["hurst_measured_mean"].values, strict=True
+            )
+        }
+    )
+    figs, notes = build_figures(
+        ds,
+        illustrative=illustrative_inputs,
+        measured_hurst=measured_hurst,
+        kappa_options=kappa_options,
+    )
+    formats, dpi = ("png", "svg"), 150
+    # the costliest first, so that the workers finish together
+    order = sorted(figs, key=lambda n: (not n.startswith("fig11"), not n.startswith("fig10")))
+    futures = {name: executor.submit(render_job, (figs[name], formats, dpi)) for name in order}
+    findings = evaluate_findings(ds, kappa_options=kappa_options)
+    for name in figs:
+        rendered[name] = futures[name].result()
+    figures = write_rendered(rendered, folder, prefix="figures/")
+    return figures, hurst, [*notes, *inputs_notes], findings
 
 
 def reproduce(
@@ -198,7 +307,8 @@ def reproduce(
     scale : {"tiny", "quick", "paper"}
         Size of the study (:data:`SCALES`).
     workers : int, optional
-        Local worker processes of the study (default: the cores available).
+        Local worker processes of the study (default: the cores available). They also draw
+        the illustrative figures while the study runs and render the study figures after it.
     progress : bool
         Progress bar and summary of the study.
     kappa_options : mapping, optional
@@ -216,9 +326,8 @@ def reproduce(
     -------
     ReproduceResult
     """
-    from ..plotting import write_figures
-    from ..study import open_study, parse_study
-    from .figures import draw_figures
+    from ..study import LocalExecutor, open_study, parse_study
+    from ..study.warmup import warm_up_workers
 
     t0 = time.perf_counter()
     config = parse_study(study_mapping(scale))
@@ -229,17 +338,31 @@ def reproduce(
     with atomic_path(study_file) as tmp:
         tmp.write_text(study_toml, encoding="utf-8")
     store = out / "study.zarr"
-    t1 = time.perf_counter()
-    _run_reproduce_study(config, store, workers=workers, progress=progress, overwrite=overwrite)
-    study_time = time.perf_counter() - t1
-    ds = open_study(store)
-    t2 = time.perf_counter()
-    figs, hurst, notes = draw_figures(
-        ds, kappa_options=kappa_options, hurst_profiles=hurst_profiles
-    )
-    figures = write_figures(figs, folder, prefix="figures/")
-    figure_time = time.perf_counter() - t2
-    findings = evaluate_findings(ds, kappa_options=kappa_options)
+    executor = LocalExecutor(workers)
+    try:
+        # the workers start (and share out the kernels' compilation) while this process goes on
+        warm_up_workers(executor, config)
+        illustrative = _start_illustrative(executor, config, hurst_profiles)
+        t1 = time.perf_counter()
+        _run_reproduce_study(
+            config, store, executor=executor, progress=progress, overwrite=overwrite
+        )
+        study_time = time.perf_counter() - t1
+        ds = open_study(store)
+        t2 = time.perf_counter()
+        figures, hurst, notes, findings = _figures(
+            ds,
+            folder,
+            executor=executor,
+            illustrative=illustrative,
+            kappa_options=kappa_options,
+            hurst_profiles=hurst_profiles,
+        )
+        figure_time = time.perf_counter() - t2
+    finally:
+        executor.close()
+    from .report import write_report
+
     findings_file = folder.file("findings.json")
     with atomic_path(findings_file) as tmp:
         tmp.write_text(

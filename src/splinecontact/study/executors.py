@@ -61,18 +61,22 @@ def _default_workers() -> int:
         return os.cpu_count() or 1
 
 
-def _init_worker(parent: int) -> None:
+def _init_worker(parent: int, barrier: Any = None) -> None:
     """Set up a pool worker: leave Ctrl-C to the main process, and die with it.
 
     The main process stops its workers when interrupted; if it is killed (``kill -9``) it
     cannot, so a watchdog thread ends the worker once its parent (``parent``, the pid of the
     main process, given explicitly in case it died while this worker was starting) is gone.
+    ``barrier`` (a ``multiprocessing.Barrier`` of the pool's size, or None) is where the
+    warm-up tasks of :meth:`LocalExecutor.warm_up` meet.
     """
+    global _WARM_UP_BARRIER
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     # this process is ours: reuse the previous realization's freed arrays without page faults
     from .._memory import retain_freed_memory
 
     retain_freed_memory()
+    _WARM_UP_BARRIER = barrier
 
     def watch() -> None:
         while os.getppid() == parent:
@@ -80,6 +84,30 @@ def _init_worker(parent: int) -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="splinecontact-parent-watchdog", daemon=True).start()
+
+
+#: In a pool worker: the barrier its warm-up task waits at (set by :func:`_init_worker`; a
+#: per-process handle, never shared state within one process).
+_WARM_UP_BARRIER: Any = None
+
+#: Longest wait of a warm-up task for the other workers' [s]; past it each goes on alone.
+_WARM_UP_TIMEOUT = 300.0
+
+
+def _warm_up_task(function: Callable[[Any], Any], part: Any) -> None:
+    """Run one part of a warm-up in a pool worker, then wait until every worker has run its part.
+
+    Each worker takes exactly one warm-up task (a worker blocked here takes no other), so no
+    worker starts real work before all the parts are done. A part that raises is ignored: a
+    warm-up only saves time (what it prepares is otherwise prepared on first use).
+    """
+    with contextlib.suppress(Exception):  # an optimisation only: real work reports its errors
+        if part is not None:
+            function(part)
+    barrier = _WARM_UP_BARRIER
+    if barrier is not None:
+        with contextlib.suppress(threading.BrokenBarrierError, RuntimeError):
+            barrier.wait(_WARM_UP_TIMEOUT)
 
 
 @contextlib.contextmanager
@@ -96,31 +124,73 @@ def _sigint_ignored() -> Iterator[None]:
 
 
 class LocalExecutor(Executor):
-    """This process (one worker, or a single task), else a pool of ``workers`` processes."""
+    """This process (one worker, or a single task), else a pool of ``workers`` processes.
+
+    The pool is started by the first task (or :meth:`warm_up`) and kept for later calls of
+    :meth:`run` and :meth:`submit` until :meth:`close`, so that work done after a study (its
+    figures) runs in the processes the study has already started.
+    """
 
     def __init__(self, workers: int | None = None) -> None:
         self._workers = _default_workers() if workers is None else workers
+        self._pool: ProcessPoolExecutor | None = None
+        self._barrier: Any = None
 
     @property
     def workers(self) -> int:
         return self._workers
 
-    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
-        if self._workers == 1 or len(tasks) <= 1:
-            return (function(task) for task in tasks)
-        return self._run_pool(function, tasks, min(self._workers, len(tasks)))
+    def _get_pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            context = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(
+                max_workers=self._workers,
+                mp_context=context,
+                initializer=_init_worker,
+                initargs=(os.getpid(), self._barrier),
+            )
+        return self._pool
 
-    @staticmethod
-    def _run_pool(
-        function: Callable[[T], R], tasks: Sequence[T], workers: int
-    ) -> Iterator[R | Lost]:
+    def warm_up(self, function: Callable[[T], Any], parts: Sequence[T]) -> bool:
+        """Start the pool now and run ``function(part)`` once per part, each in its own worker.
+
+        The workers wait for each other after their part (at most ``len(parts)`` parts, one
+        per worker; workers beyond them wait without a part), so tasks submitted afterwards
+        start only once every part is done. Used to share out the compilation of the numba
+        kernels: each worker compiles some into the on-disk cache and loads the others from it,
+        instead of every worker compiling all of them at once. Returns immediately; a part that
+        fails is ignored. Does nothing (returns False) in this process or once the pool runs.
+        """
+        if self._workers < 2 or self._pool is not None or len(parts) > self._workers:
+            return False
         context = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=context,
-            initializer=_init_worker,
-            initargs=(os.getpid(),),
-        )
+        self._barrier = context.Barrier(self._workers)
+        pool = self._get_pool()
+        padded: list[Any] = [*parts, *([None] * (self._workers - len(parts)))]
+        with _sigint_ignored():
+            for part in padded:
+                pool.submit(_warm_up_task, function, part)
+        return True
+
+    def submit(self, function: Callable[[T], R], task: T) -> Future[R]:
+        """Run ``function(task)`` in a worker of the pool (in this process with one worker)."""
+        if self._workers == 1:
+            future: Future[R] = Future()
+            try:
+                future.set_result(function(task))
+            except Exception as exc:
+                future.set_exception(exc)
+            return future
+        with _sigint_ignored():
+            return self._get_pool().submit(function, task)
+
+    def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
+        if self._workers == 1 or (len(tasks) <= 1 and self._pool is None):
+            return (function(task) for task in tasks)
+        return self._run_pool(function, tasks)
+
+    def _run_pool(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
+        pool = self._get_pool()
         finished = False
         try:
             # The workers are started by submit(): started with Ctrl-C ignored, a worker still
@@ -137,15 +207,24 @@ class LocalExecutor(Executor):
                         yield Lost(task, _one_line(exc))
             finished = True
         finally:
-            if finished:
-                pool.shutdown(wait=True)
-            else:
+            if not finished:
                 # Interrupted (Ctrl-C, an error while writing): stop now; running tasks are
                 # lost (not stored, so run again) rather than waited for.
-                processes = list(getattr(pool, "_processes", {}).values())
-                pool.shutdown(wait=False, cancel_futures=True)
-                for process in processes:
-                    process.terminate()
+                self._terminate()
+
+    def _terminate(self) -> None:
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+
+    def close(self) -> None:
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=True)
 
 
 def _worker_version() -> str:

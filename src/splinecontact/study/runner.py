@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 from ..errors import StudyConfigError, StudyExecutionError
 from ..results import SCALAR_VARIABLES
 from .config import PATH_REPLACES, StudyConfig, load_study, parse_study
-from .executors import Lost, make_executor
+from .executors import Executor, Lost, make_executor
 from .limits import StudyLimits, check_limits
 from .store import (
     STATUS_FAILED,
@@ -64,6 +64,7 @@ from .store import (
     _Writer,
     step_variables,
 )
+from .warmup import warm_up_workers
 
 __all__ = [
     "FailedRealization",
@@ -73,6 +74,7 @@ __all__ = [
     "StudySummary",
     "realization_seed",
     "run_batch",
+    "run_batch_group",
     "run_study",
     "simulate_realization",
 ]
@@ -96,7 +98,12 @@ def realization_seed(study_seed: int, realization: int) -> np.random.SeedSequenc
     return np.random.SeedSequence(study_seed, spawn_key=(realization,))
 
 
-def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequence) -> Any:
+def simulate_realization(
+    parameters: Mapping[str, Any],
+    seed: np.random.SeedSequence,
+    *,
+    profiles: dict[Any, Any] | None = None,
+) -> Any:
     """Generate the profiles of one realization and simulate their contact.
 
     Parameters
@@ -111,6 +118,11 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         The realization's seed (:func:`realization_seed`). Rough-on-rough: passed to
         ``weierstrass_mandelbrot_pair``. Rough-on-flat: the lower profile is generated from the
         pair's lower seed (``seed.spawn(2)[0]``), so it equals the rough-on-rough lower profile.
+    profiles : dict, optional
+        Profiles already generated for this realization (``seed``), kept by generator
+        parameters: a grid point that differs from an earlier one only in the contact type
+        (or in a simulation parameter) reuses them instead of generating them again — the
+        same arrays, so the same result. Filled in here; give one dict per realization.
 
     Returns
     -------
@@ -151,11 +163,17 @@ def simulate_realization(parameters: Mapping[str, Any], seed: np.random.SeedSequ
         flat = parameters["contact_type"] != "rough-on-rough"
         del sim["diagnostics"]
         return simulate_generated(dimension, seed=seed, flat=flat, generator=gen, **sim)
+    cache: dict[Any, Any] = {} if profiles is None else profiles
+    key = (repr(dimension), tuple((name, repr(value)) for name, value in sorted(gen.items())))
     if parameters["contact_type"] == "rough-on-rough":
-        lower, upper = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
-        return simulate(lower, upper, **sim)
-    lower = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
-    return simulate(lower, "flat", **sim)
+        if ("upper", key) not in cache:
+            pair = weierstrass_mandelbrot_pair(dimension, seed=seed, **gen)
+            cache[("lower", key)], cache[("upper", key)] = pair
+        return simulate(cache[("lower", key)], cache[("upper", key)], **sim)
+    if ("lower", key) not in cache:
+        # the pair's lower profile is generated from the same child seed: the same array
+        cache[("lower", key)] = weierstrass_mandelbrot(dimension, seed=child_seed(seed, 0), **gen)
+    return simulate(cache[("lower", key)], "flat", **sim)
 
 
 # --- batches ------------------------------------------------------------------------------------
@@ -165,36 +183,96 @@ def run_batch(
     task: BatchTask, realization_function: RealizationFunction | None = None
 ) -> BatchResult:
     """Run the realizations of ``task``; an exception in one is recorded, not raised."""
+    return run_batch_group((task,), realization_function)[0]
+
+
+def run_batch_group(
+    tasks: Sequence[BatchTask], realization_function: RealizationFunction | None = None
+) -> tuple[BatchResult, ...]:
+    """Run batches of the same realizations at several grid points, realization by realization.
+
+    With the default engine the grid points of one realization share its profiles (see
+    :func:`simulate_realization`): a rough-on-flat grid point reuses the lower profile its
+    rough-on-rough twin generated. Each result is the one :func:`run_batch` gives alone.
+    """
     func = simulate_realization if realization_function is None else realization_function
-    n = task.stop - task.start
-    width = task.n_step_records
-    names = step_variables(task.parameters.get("path") is not None)
-    curves = {name: np.full((n, width), np.nan) for name in names}
-    scalars = {name: np.full(n, np.nan) for name in SCALAR_VARIABLES}
-    status = np.full(n, STATUS_OK, dtype=np.int8)
-    errors = [""] * n
-    expected = int(task.parameters["steps"]) + 1
-    for i, r in enumerate(range(task.start, task.stop)):
-        try:
-            result = func(task.parameters, realization_seed(task.study_seed, r))
-            row_curves = {}
-            for name in names:
-                values = np.asarray(result.curves[name], dtype=np.float64)
-                if values.shape != (expected,):
-                    raise ValueError(
-                        f"curve {name!r} has shape {values.shape}, expected ({expected},)"
-                    )
-                row_curves[name] = values
-            row_scalars = {name: float(result.scalars[name]) for name in SCALAR_VARIABLES}
-        except Exception as exc:
-            status[i] = STATUS_FAILED
-            errors[i] = _one_line(exc)
-            continue
+    share = realization_function is None
+    first = tasks[0]
+    out = [_BatchRows(task) for task in tasks]
+    for i in range(first.stop - first.start):
+        profiles: dict[Any, Any] = {}
+        for task, rows in zip(tasks, out, strict=True):
+            seed = realization_seed(task.study_seed, task.start + i)
+            try:
+                if share:
+                    result = simulate_realization(task.parameters, seed, profiles=profiles)
+                else:
+                    result = func(task.parameters, seed)
+                rows.store(i, result)
+            except Exception as exc:
+                rows.fail(i, exc)
+    return tuple(rows.result() for rows in out)
+
+
+class _BatchRows:
+    """The rows of one batch as its realizations finish (curves, scalars, status, errors)."""
+
+    def __init__(self, task: BatchTask) -> None:
+        self.task = task
+        n = task.stop - task.start
+        width = task.n_step_records
+        self.names = step_variables(task.parameters.get("path") is not None)
+        self.curves = {name: np.full((n, width), np.nan) for name in self.names}
+        self.scalars = {name: np.full(n, np.nan) for name in SCALAR_VARIABLES}
+        self.status = np.full(n, STATUS_OK, dtype=np.int8)
+        self.errors = [""] * n
+        self.expected = int(task.parameters["steps"]) + 1
+
+    def store(self, i: int, result: Any) -> None:
+        """Check and keep one realization's result (raises if its curves are malformed)."""
+        expected = self.expected
+        row_curves = {}
+        for name in self.names:
+            values = np.asarray(result.curves[name], dtype=np.float64)
+            if values.shape != (expected,):
+                raise ValueError(f"curve {name!r} has shape {values.shape}, expected ({expected},)")
+            row_curves[name] = values
+        row_scalars = {name: float(result.scalars[name]) for name in SCALAR_VARIABLES}
         for name, values in row_curves.items():
-            curves[name][i, :expected] = values
+            self.curves[name][i, :expected] = values
         for name, value in row_scalars.items():
-            scalars[name][i] = value
-    return BatchResult(task, curves, scalars, status, tuple(errors))
+            self.scalars[name][i] = value
+
+    def fail(self, i: int, exc: BaseException) -> None:
+        self.status[i] = STATUS_FAILED
+        self.errors[i] = _one_line(exc)
+
+    def result(self) -> BatchResult:
+        return BatchResult(self.task, self.curves, self.scalars, self.status, tuple(self.errors))
+
+
+def _group_key(task: BatchTask) -> tuple[Any, ...]:
+    """Batches with equal keys generate the same profiles (same realizations, generator inputs)."""
+    from ..generate import GENERATOR_PARAMETERS
+
+    params = task.parameters
+    gen = tuple((name, repr(params.get(name))) for name in ("dimension", *GENERATOR_PARAMETERS))
+    return (task.start, task.stop, task.study_seed, gen)
+
+
+def _group_batches(tasks: Sequence[BatchTask], share_profiles: bool) -> list[tuple[BatchTask, ...]]:
+    """Batches as groups run by one task each: those that share profiles together (rough-on-
+    rough first, so that its pair is generated once), else one batch per group; in the order
+    of their first batch."""
+    if not share_profiles:
+        return [(task,) for task in tasks]
+    groups: dict[tuple[Any, ...], list[BatchTask]] = {}
+    for task in tasks:
+        groups.setdefault(_group_key(task), []).append(task)
+    return [
+        tuple(sorted(group, key=lambda t: t.parameters.get("contact_type") != "rough-on-rough"))
+        for group in groups.values()
+    ]
 
 
 def _auto_batch_size(n_pending: int, n_workers: int) -> int:
@@ -215,8 +293,9 @@ def _make_batches(
         # Runs of consecutive realizations, each cut into batches of at most batch_size.
         breaks = np.flatnonzero(np.diff(pending) != 1) + 1
         for run in np.split(pending, breaks):
-            for lo in range(0, run.size, batch_size):
-                part = run[lo : lo + batch_size]
+            # batches of at most batch_size, of equal sizes (10 + 10 rather than 16 + 4): the
+            # workers then finish together
+            for part in np.array_split(run, math.ceil(run.size / batch_size)):
                 tasks.append(
                     BatchTask(grid_index, int(part[0]), int(part[-1]) + 1, params, seed, width)
                 )
@@ -373,6 +452,7 @@ def run_study(
     overwrite: bool = False,
     limits: StudyLimits | None = None,
     realization_function: RealizationFunction | None = None,
+    executor: Executor | None = None,
 ) -> StudySummary:
     """Run (or continue) a study and store it in the Zarr store ``out``.
 
@@ -409,6 +489,9 @@ def run_study(
     realization_function : callable, optional
         Replaces :func:`simulate_realization` (testing and extension hook): a picklable
         module-level function ``(parameters, seed) -> result`` with ``.curves``/``.scalars``.
+    executor : Executor, optional
+        Where the batches run (replaces ``workers`` and ``scheduler``); left open, for the
+        caller's further work in the same worker processes.
 
     Returns
     -------
@@ -452,7 +535,12 @@ def run_study(
     _check_count("workers", workers)
     _check_count("batch_size", batch_size)
     check_limits(config, limits)
-    executor = make_executor(workers, scheduler)
+    own_executor = executor is None
+    if executor is None:
+        executor = make_executor(workers, scheduler)
+    if realization_function is None:
+        # the workers start (and compile) while this process prepares the store
+        warm_up_workers(executor, config)
     try:
         created = _prepare_store(path, config, overwrite=overwrite)
         with _locked(path):
@@ -468,10 +556,12 @@ def run_study(
             size = batch_size or config.output.batch_size
             if size is None:
                 size = _auto_batch_size(total - n_done, n_workers)
-            tasks = _make_batches(config, status, size)
-            batch = functools.partial(run_batch, realization_function=realization_function)
-            results: Iterator[BatchResult | Lost] = (
-                executor.run(batch, tasks) if tasks else iter(())
+            groups = _group_batches(
+                _make_batches(config, status, size), share_profiles=realization_function is None
+            )
+            batch = functools.partial(run_batch_group, realization_function=realization_function)
+            results: Iterator[tuple[BatchResult, ...] | Lost] = (
+                executor.run(batch, groups) if groups else iter(())
             )
             ran_now = 0
             lost: list[str] = []
@@ -480,17 +570,20 @@ def run_study(
             try:
                 for item in results:
                     if isinstance(item, Lost):
-                        t = item.task
-                        where = _grid_label(config, t.grid_index)
-                        lost.append(f"{where}realizations {t.start}–{t.stop - 1}: {item.reason}")
+                        for t in item.task:
+                            where = _grid_label(config, t.grid_index)
+                            lost.append(
+                                f"{where}realizations {t.start}–{t.stop - 1}: {item.reason}"
+                            )
                         continue
-                    writer.write(item)
-                    n = item.task.stop - item.task.start
-                    ran_now += n
-                    n_done += n
-                    if report is not None:
-                        elapsed = time.perf_counter() - t0
-                        report(StudyProgress(path, total, n_done, ran_now, elapsed))
+                    for one in item:
+                        writer.write(one)
+                        n = one.task.stop - one.task.start
+                        ran_now += n
+                        n_done += n
+                        if report is not None:
+                            elapsed = time.perf_counter() - t0
+                            report(StudyProgress(path, total, n_done, ran_now, elapsed))
             finally:
                 close = getattr(results, "close", None)
                 if close is not None:
@@ -500,7 +593,8 @@ def run_study(
             if summary.complete and not lost and (ran_now or not writer.finished()):
                 writer.finish()
     finally:
-        executor.close()
+        if own_executor:
+            executor.close()
     if report is not None:
         report(StudyProgress(path, total, n_done, ran_now, summary.wall_time, summary))
     if lost:
