@@ -1,4 +1,4 @@
-"""A compiled circulant convolution by real FFT: u = irfft(λ · rfft(v)) for power-of-two sizes.
+"""A compiled circulant convolution by real FFT: u = irfft(λ · rfft(v)) for any length n.
 
 The boundary element solver applies its elastic operator once or twice per iteration, so this
 transform pair is its inner loop. numpy's and scipy's FFTs (pocketfft) run one transform at a
@@ -14,6 +14,15 @@ time with scalar butterflies; this one is laid out for SIMD instead:
   half-length spectrum of the inverse; the inverse is the same forward transform of the
   conjugate.
 
+Any other length n (not a power of two, or shorter than ``MIN_SIZE``) is embedded in a power of
+two M ≥ 2n − 1: the circulant product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the
+response to a unit load at node 0 (real and even, as λ is real). Padding v with zeros to M points
+and wrapping a onto M points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between)
+gives a circulant product of M points whose first n values are u, because every difference
+i − j of two nodes lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real
+and the power-of-two pair above serves unchanged. This is the convolution step of Bluestein's
+algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 4n).
+
 Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(ε log N)).
 """
 
@@ -28,9 +37,9 @@ from numpy.typing import NDArray
 
 from .errors import BEMError
 
-__all__ = ["CirculantConvolution", "fast_size"]
+__all__ = ["CirculantConvolution", "circulant", "fast_size", "transform_size"]
 
-#: Smallest real length handled by the compiled transform (below it the caller uses scipy).
+#: Shortest power-of-two transform; shorter grids are embedded in one of this length.
 MIN_SIZE = 256
 
 #: Padding [values] of every row of the work matrices (one cache line).
@@ -38,8 +47,22 @@ _PAD = 8
 
 
 def fast_size(n: int) -> bool:
-    """True when ``n`` is a power of two of at least ``MIN_SIZE`` points."""
+    """True when ``n`` is a power of two of at least ``MIN_SIZE`` points (transformed directly)."""
     return n >= MIN_SIZE and n & (n - 1) == 0
+
+
+def transform_size(n: int) -> int:
+    """Length M of the power-of-two transform pair that serves a circulant product of n points.
+
+    ``n`` itself when :func:`fast_size`, otherwise the smallest power of two ≥ max(2n − 1,
+    ``MIN_SIZE``) (the zero-padded embedding described in the module docstring).
+    """
+    if fast_size(n):
+        return n
+    size = MIN_SIZE
+    while size < 2 * n - 1:
+        size *= 2
+    return size
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -371,6 +394,56 @@ def _convolve(
     _store(fr, fi, out, n1, n2)
 
 
+@numba.njit(cache=True, nogil=True)
+def circulant(
+    values: NDArray[np.float64],
+    out: NDArray[np.float64],
+    padded_in: NDArray[np.float64],
+    padded_out: NDArray[np.float64],
+    scaled: NDArray[np.float64],
+    ar: NDArray[np.float64],
+    ai: NDArray[np.float64],
+    br: NDArray[np.float64],
+    bi: NDArray[np.float64],
+    n1: int,
+    n2: int,
+    w1r: NDArray[np.float64],
+    w1i: NDArray[np.float64],
+    w2r: NDArray[np.float64],
+    w2i: NDArray[np.float64],
+    tr: NDArray[np.float64],
+    ti: NDArray[np.float64],
+    hr: NDArray[np.float64],
+    hi: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """out = the circulant product of ``values`` (n points) for any n.
+
+    With empty ``padded_*`` buffers (n a fast size) the transform pair works on ``values``
+    directly; otherwise ``values`` goes into the first n entries of ``padded_in`` (the rest
+    stays zero), the product of M points into ``padded_out``, and its first n entries are u.
+    The arguments after (values, out) are :attr:`CirculantConvolution.arguments`.
+    """
+    if padded_in.size == 0:
+        _convolve(values, out, scaled, ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti, hr, hi)
+        return
+    n = values.size
+    padded_in[:n] = values
+    _convolve(
+        padded_in, padded_out, scaled, ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti, hr,
+        hi,
+    )  # fmt: skip
+    out[:] = padded_out[:n]
+
+
+def _embedded_response(response: NDArray[np.float64], n: int, size: int) -> NDArray[np.float64]:
+    """λ' of the M-point product whose first n values are the n-point one (module docstring)."""
+    column = np.fft.irfft(response, n)  # a: the response to a unit load at node 0 (even)
+    wrapped = np.zeros(size)
+    wrapped[:n] = column
+    wrapped[size - n + 1 :] = column[1:]
+    return np.ascontiguousarray(np.fft.rfft(wrapped).real)
+
+
 def _unit_circle(
     numerator: NDArray[np.int64], denominator: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -380,50 +453,58 @@ def _unit_circle(
 
 
 class CirculantConvolution:
-    """u = irfft(λ · rfft(v)) for a fixed real response λ and a power-of-two length n.
+    """u = irfft(λ · rfft(v), n) for a fixed real response λ and any length n ≥ 2.
 
     Parameters
     ----------
     response : ndarray
-        λ_k for k = 0 … n/2 [any unit].
+        λ_k for k = 0 … n//2 [any unit].
     n : int
-        Real length, a power of two ≥ ``MIN_SIZE`` (see :func:`fast_size`).
+        Real length; a power of two ≥ ``MIN_SIZE`` is transformed directly, any other length
+        through the embedding in a power of two (:func:`transform_size`).
     """
 
     def __init__(self, response: NDArray[np.float64], n: int) -> None:
-        if not fast_size(n) or response.shape != (n // 2 + 1,):
+        if n < 2 or response.shape != (n // 2 + 1,):
             raise BEMError(
-                f"the compiled transform needs a power of two ≥ {MIN_SIZE} points and n/2 + 1 "
-                f"response modes, got {n} points and {response.shape} modes; use scipy.fft"
+                f"the circulant product needs n ≥ 2 points and n//2 + 1 response modes, got {n} "
+                f"points and {response.shape} modes; pass the rfft response of the n-point grid"
             )
-        big = n // 2
+        self.n = n
+        size = transform_size(n)
+        self.size = size
+        if size == n:
+            self.padded_in = self.padded_out = np.empty(0)
+            spectrum = np.ascontiguousarray(response, dtype=np.float64)
+        else:
+            self.padded_in = np.zeros(size)
+            self.padded_out = np.empty(size)
+            spectrum = _embedded_response(np.asarray(response, dtype=np.float64), n, size)
+        big = size // 2
         bits = int(math.log2(big))
         n1 = 1 << (bits // 2)
         n2 = big // n1
-        self.n = n
         self.n1 = n1
         self.n2 = n2
-        self.scaled = np.ascontiguousarray(response, dtype=np.float64) * (0.5 / n)
+        self.scaled = spectrum * (0.5 / size)
         self.w1r, self.w1i = _unit_circle(np.arange(n1), n1)
         self.w2r, self.w2i = _unit_circle(np.arange(n2), n2)
         c = np.arange(n2)[:, None]
         k1 = np.arange(n1)[None, :]
         self.tr, self.ti = (np.ascontiguousarray(a.ravel()) for a in _unit_circle(k1 * c, big))
-        self.hr, self.hi = _unit_circle(np.arange(big), n)
-        size = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
-        self.ar, self.ai, self.br, self.bi = (np.empty(size) for _ in range(4))
+        self.hr, self.hi = _unit_circle(np.arange(big), size)
+        work = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
+        self.ar, self.ai, self.br, self.bi = (np.empty(work) for _ in range(4))
 
     @property
     def arguments(self) -> tuple[Any, ...]:
-        """The arguments of :func:`_convolve` after (values, out), for compiled callers."""
+        """The arguments of :func:`circulant` after (values, out), for compiled callers."""
         return (
-            self.scaled, self.ar, self.ai, self.br, self.bi, self.n1, self.n2, self.w1r,
-            self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr, self.hi,
+            self.padded_in, self.padded_out, self.scaled, self.ar, self.ai, self.br, self.bi,
+            self.n1, self.n2, self.w1r, self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr,
+            self.hi,
         )  # fmt: skip
 
     def __call__(self, values: NDArray[np.float64], out: NDArray[np.float64]) -> None:
-        """Write irfft(λ · rfft(values)) into ``out`` (both of length n, float64, contiguous)."""
-        _convolve(
-            values, out, self.scaled, self.ar, self.ai, self.br, self.bi, self.n1, self.n2,
-            self.w1r, self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr, self.hi,
-        )  # fmt: skip
+        """Write irfft(λ · rfft(values), n) into ``out`` (length n, float64, contiguous)."""
+        circulant(values, out, *self.arguments)
