@@ -400,38 +400,22 @@ def circulant(
     out: NDArray[np.float64],
     padded_in: NDArray[np.float64],
     padded_out: NDArray[np.float64],
-    scaled: NDArray[np.float64],
-    ar: NDArray[np.float64],
-    ai: NDArray[np.float64],
-    br: NDArray[np.float64],
-    bi: NDArray[np.float64],
-    n1: int,
-    n2: int,
-    w1r: NDArray[np.float64],
-    w1i: NDArray[np.float64],
-    w2r: NDArray[np.float64],
-    w2i: NDArray[np.float64],
-    tr: NDArray[np.float64],
-    ti: NDArray[np.float64],
-    hr: NDArray[np.float64],
-    hi: NDArray[np.float64],
+    *transform: Any,
 ) -> None:  # pragma: no cover - compiled
     """out = the circulant product of ``values`` (n points) for any n.
 
     With empty ``padded_*`` buffers (n a fast size) the transform pair works on ``values``
     directly; otherwise ``values`` goes into the first n entries of ``padded_in`` (the rest
     stays zero), the product of M points into ``padded_out``, and its first n entries are u.
-    The arguments after (values, out) are :attr:`CirculantConvolution.arguments`.
+    ``transform`` are the arguments of :func:`_convolve` after (values, out); all arguments
+    after (values, out) are :attr:`CirculantConvolution.arguments`.
     """
     if padded_in.size == 0:
-        _convolve(values, out, scaled, ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti, hr, hi)
+        _convolve(values, out, *transform)
         return
     n = values.size
     padded_in[:n] = values
-    _convolve(
-        padded_in, padded_out, scaled, ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti, hr,
-        hi,
-    )  # fmt: skip
+    _convolve(padded_in, padded_out, *transform)
     out[:] = padded_out[:n]
 
 
