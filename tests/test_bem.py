@@ -444,8 +444,8 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
 
     if not sparse_updates:  # every iteration re-applies the operator with an FFT pair,
         monkeypatch.setattr(bem._solver, "_sparse_limit", lambda n: -1)
-        # through the embedding in a longer power of two (not the direct transform)
-        monkeypatch.setattr(_fft, "fast_size", lambda n: False)
+        # through the embedding in a transform of 2n points (not the direct transform)
+        monkeypatch.setattr(_fft, "transform_size", lambda n: 2 * n)
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 21) / 20
     path = bem.load_path(problem, loads, fields=True)
@@ -465,14 +465,14 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
 
 
 def test_compiled_loop_matches_the_embedded_transform(monkeypatch):
-    # the one compiled loop with the direct power-of-two transform and with the same grid
-    # embedded in a longer power of two (the path of every other grid size) moves only
+    # the one compiled loop with the direct transform and with the same grid embedded in a
+    # transform of twice its length (the path of odd grids and other prime factors) moves only
     # rounding: same contact sets, mean gaps to 1e-9; and each is reproducible to the bit
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 11) / 10
     compiled = bem.load_path(problem, loads, fields=True)
     again = bem.load_path(problem, loads, fields=True)
-    monkeypatch.setattr(_fft, "fast_size", lambda n: False)
+    monkeypatch.setattr(_fft, "transform_size", lambda n: 2 * n)
     embedded = bem.load_path(problem, loads, fields=True)
     for a, b, c in zip(compiled.steps, again.steps, embedded.steps, strict=True):
         assert a.pressure is not None and b.pressure is not None and c.pressure is not None
@@ -484,8 +484,9 @@ def test_compiled_loop_matches_the_embedded_transform(monkeypatch):
 
 @pytest.mark.parametrize("n", [3 * 2**10, 1999])
 def test_compiled_loop_matches_legacy_loop_on_other_grid_sizes(n):
-    # grids that are not a power of two (even, and a prime) run the same compiled loop:
-    # same contact set at every step, mean gaps to 1e-9 and the legacy iteration count
+    # grids that are not a power of two run the same compiled loop (3·2^10 transformed
+    # directly with radix-3 stages, a prime through the embedding): same contact set at every
+    # step, mean gaps to 1e-9 and the legacy iteration count
     from bem_legacy import legacy_load_path
 
     problem = _rough_problem(n)

@@ -8,20 +8,23 @@ time with scalar butterflies; this one is laid out for SIMD instead:
   imaginary part), held as separate real and imaginary arrays;
 * the complex FFT of length N = N1·N2 is done in four steps (Bailey): N2 transforms of length N1
   down the columns of the N1 × N2 matrix, a twiddle factor, a transpose, and N1 transforms of
-  length N2. Each batch of short transforms is a Stockham radix-2 sweep whose innermost loop
-  runs over the contiguous batch index, so every butterfly is a vector operation;
+  length N2 (N1 divides N2). Each batch of short transforms is a Stockham sweep (radix 3 for
+  the factors 3, then radix 4 and 2) whose innermost loop runs over the contiguous batch
+  index, so every butterfly is a vector operation;
 * one pass separates the even and odd spectra, multiplies by the real response λ and builds the
   half-length spectrum of the inverse; the inverse is the same forward transform of the
   conjugate.
 
-Any other length n (not a power of two, or shorter than ``MIN_SIZE``) is embedded in a power of
-two M ≥ 2n − 1: the circulant product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the
-response to a unit load at node 0 (real and even, as λ is real). Padding v with zeros to M points
-and wrapping a onto M points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between)
-gives a circulant product of M points whose first n values are u, because every difference
-i − j of two nodes lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real
-and the power-of-two pair above serves unchanged. This is the convolution step of Bluestein's
-algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 4n).
+This serves every even n ≥ ``MIN_SIZE`` with n/2 = 2^a·3^b (:func:`fast_size`: powers of two,
+3·2^k, …). Any other length n (odd, another prime factor, or shorter than ``MIN_SIZE``) is
+embedded in the smallest such length M ≥ 2n − 1 (:func:`transform_size`). The circulant
+product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the response to a unit load at
+node 0 (real and even, as λ is real). Padding v with zeros to M points and wrapping a onto M
+points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between) gives a circulant
+product of M points whose first n values are u, because every difference i − j of two nodes
+lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real and the transform
+pair above serves unchanged. This is the convolution step of Bluestein's algorithm without its
+chirps: one real transform pair of length M per product (2n ≤ M < 2.4n above 128 points).
 
 Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(ε log N)).
 """
@@ -39,30 +42,52 @@ from .errors import BEMError
 
 __all__ = ["CirculantConvolution", "circulant", "fast_size", "transform_size"]
 
-#: Shortest power-of-two transform; shorter grids are embedded in one of this length.
+#: Shortest transform; shorter grids are embedded in a transform of at least this length.
 MIN_SIZE = 256
 
 #: Padding [values] of every row of the work matrices (one cache line).
 _PAD = 8
 
 
+def _smooth(n: int) -> bool:
+    """True when n > 0 has no prime factor other than 2 and 3."""
+    while n % 3 == 0:
+        n //= 3
+    return n > 0 and n & (n - 1) == 0
+
+
 def fast_size(n: int) -> bool:
-    """True when ``n`` is a power of two of at least ``MIN_SIZE`` points (transformed directly)."""
-    return n >= MIN_SIZE and n & (n - 1) == 0
+    """True when ``n`` ≥ ``MIN_SIZE`` is even and n/2 = 2^a·3^b (transformed directly)."""
+    return n >= MIN_SIZE and n % 2 == 0 and _smooth(n // 2)
 
 
 def transform_size(n: int) -> int:
-    """Length M of the power-of-two transform pair that serves a circulant product of n points.
+    """Length M of the transform pair that serves a circulant product of n points.
 
-    ``n`` itself when :func:`fast_size`, otherwise the smallest power of two ≥ max(2n − 1,
+    ``n`` itself when :func:`fast_size`, otherwise the smallest fast size ≥ max(2n − 1,
     ``MIN_SIZE``) (the zero-padded embedding described in the module docstring).
     """
     if fast_size(n):
         return n
-    size = MIN_SIZE
-    while size < 2 * n - 1:
-        size *= 2
-    return size
+    target = max(2 * n - 1, MIN_SIZE)
+    best = 4 * target
+    three = 1
+    while 2 * three < best:  # each 2·3^b·2^a: the smallest one ≥ target for every b
+        size = 2 * three
+        while size < target:
+            size *= 2
+        best = min(best, size)
+        three *= 3
+    return best
+
+
+def _split(big: int) -> int:
+    """n1 of the four-step split big = n1·n2: the largest n1 ≤ √big that divides n2.
+
+    :func:`_middle` writes runs of n1 consecutive values into rows of n2, so n1 | n2; for
+    big = 2^a·3^b that is n1 = 2^⌊a/2⌋·3^⌊b/2⌋.
+    """
+    return max(d for d in range(1, math.isqrt(big) + 1) if big % (d * d) == 0)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -174,6 +199,63 @@ def _stage4(
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
+def _stage3(
+    xr: NDArray[np.float64],
+    xi: NDArray[np.float64],
+    yr: NDArray[np.float64],
+    yi: NDArray[np.float64],
+    m: int,
+    s: int,
+    batch: int,
+    stride: int,
+    wr: NDArray[np.float64],
+    wi: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """One radix-3 Stockham stage: sub-transforms of 3m points, stride s rows, into y."""
+    h = 0.5 * math.sqrt(3.0)  # −Im exp(−2πi/3)
+    for p in range(m):
+        c1 = wr[p * s]
+        d1 = wi[p * s]
+        c2 = wr[2 * p * s]
+        d2 = wi[2 * p * s]
+        for q in range(s):
+            i0 = (q + s * p) * stride
+            step_in = s * m * stride
+            o0 = (q + s * 3 * p) * stride
+            step_out = s * stride
+            ar = xr[i0 : i0 + batch]
+            ai = xi[i0 : i0 + batch]
+            br = xr[i0 + step_in : i0 + step_in + batch]
+            bi = xi[i0 + step_in : i0 + step_in + batch]
+            cr = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
+            ci = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
+            y0r = yr[o0 : o0 + batch]
+            y0i = yi[o0 : o0 + batch]
+            y1r = yr[o0 + step_out : o0 + step_out + batch]
+            y1i = yi[o0 + step_out : o0 + step_out + batch]
+            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
+            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
+            for b in range(batch):
+                sr = br[b] + cr[b]
+                si = bi[b] + ci[b]
+                # a − (b + c)/2 ∓ i·h·(b − c)
+                mr = ar[b] - 0.5 * sr
+                mi = ai[b] - 0.5 * si
+                er = h * (bi[b] - ci[b])
+                ei = h * (br[b] - cr[b])
+                y0r[b] = ar[b] + sr
+                y0i[b] = ai[b] + si
+                tr = mr + er
+                ti = mi - ei
+                y1r[b] = tr * c1 - ti * d1
+                y1i[b] = tr * d1 + ti * c1
+                tr = mr - er
+                ti = mi + ei
+                y2r[b] = tr * c2 - ti * d2
+                y2i[b] = tr * d2 + ti * c2
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True)
 def _batched_fft(
     xr: NDArray[np.float64],
     xi: NDArray[np.float64],
@@ -187,8 +269,9 @@ def _batched_fft(
 ) -> bool:  # pragma: no cover - compiled
     """``batch`` forward FFTs of ``length`` points, element (row r, column b) at r·stride + b.
 
-    Stockham radix-4 (and one radix-2 stage for odd powers of two; decimation in frequency,
-    self-sorting), ping-pong between x and y; ``w`` holds exp(−2πik/length) for k < length.
+    Stockham radix-3 stages for the factors 3 of ``length`` (a 2^a·3^b number), then radix 4 (and
+    one radix-2 stage for an odd power of two; decimation in frequency, self-sorting), ping-pong
+    between x and y; ``w`` holds exp(−2πik/length) for k < length.
     Returns True when the result is in y.
     """
     # one call site per stage kind (the buffers swapped by reference): the compiled stages are
@@ -198,7 +281,11 @@ def _batched_fft(
     in_y = False
     while n > 1:
         src_r, src_i, dst_r, dst_i = (yr, yi, xr, xi) if in_y else (xr, xi, yr, yi)
-        if n >= 4:
+        if n % 3 == 0:
+            m = n // 3
+            _stage3(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
+            s *= 3
+        elif n % 4 == 0:
             m = n // 4
             _stage4(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
             s *= 4
@@ -444,8 +531,8 @@ class CirculantConvolution:
     response : ndarray
         λ_k for k = 0 … n//2 [any unit].
     n : int
-        Real length; a power of two ≥ ``MIN_SIZE`` is transformed directly, any other length
-        through the embedding in a power of two (:func:`transform_size`).
+        Real length; a :func:`fast_size` is transformed directly, any other length through
+        the embedding in a longer fast size (:func:`transform_size`).
     """
 
     def __init__(self, response: NDArray[np.float64], n: int) -> None:
@@ -465,8 +552,7 @@ class CirculantConvolution:
             self.padded_out = np.empty(size)
             spectrum = _embedded_response(np.asarray(response, dtype=np.float64), n, size)
         big = size // 2
-        bits = int(math.log2(big))
-        n1 = 1 << (bits // 2)
+        n1 = _split(big)
         n2 = big // n1
         self.n1 = n1
         self.n2 = n2
