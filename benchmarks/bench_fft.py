@@ -6,8 +6,8 @@
 Four ways, interleaved in rounds so that a drift of the machine hits all of them: scipy.fft
 returning new arrays, scipy.fft with ``workers=2``, numpy.fft writing into preallocated buffers
 (``out=``), and the package's compiled transform pair (``splinecontact._fft``), which the solver
-uses on every grid (directly when n/2 = 2^a·3^b, zero-padded otherwise). Median CPU time (``time.process_time``) per call over the rounds,
-wall time beside.
+uses on every grid (directly when n/2 = 2^a·3^b, zero-padded otherwise). Median CPU time
+(``time.process_time``) per call over the rounds, wall time beside.
 """
 
 from __future__ import annotations
