@@ -73,9 +73,16 @@ def _relative_error(response: np.ndarray, values: np.ndarray) -> float:
     return float(np.max(np.abs(out - expected)) / np.max(np.abs(expected)))
 
 
-@pytest.mark.parametrize("n", [3 * 256, 2 * 3**5, 3 * 2**10, 9 * 2**9, 3 * 2**14, 2 * 3**9])
-def test_matches_numpy_at_sizes_with_factors_three(n: int) -> None:
-    # n/2 = 2^a·3^b: transformed directly (radix-3 stages beside the radix-4 and radix-2 ones)
+@pytest.mark.parametrize(
+    "n",
+    [
+        3 * 256, 2 * 3**5, 3 * 2**10, 9 * 2**9, 3 * 2**14, 2 * 3**9,  # factors three
+        1000, 2 * 5**5, 10 * 2**12, 15 * 2**9, 10**5,  # factors five (and three)
+    ],
+)  # fmt: skip
+def test_matches_numpy_at_sizes_with_factors_three_and_five(n: int) -> None:
+    # n/2 = 2^a·3^b·5^c: transformed directly (radix-5 and radix-3 stages beside the radix-4
+    # and radix-2 ones)
     assert fast_size(n) and transform_size(n) == n
     rng = np.random.default_rng(n)
     assert _relative_error(rng.random(n // 2 + 1), rng.standard_normal(n)) <= 1e-12
@@ -86,7 +93,7 @@ def test_matches_numpy_at_sizes_with_factors_three(n: int) -> None:
     [
         8, 9, 15, 127, MIN_SIZE // 2, MIN_SIZE - 1, MIN_SIZE + 1,  # short and odd
         97, 1009, 4099, 65_537,  # primes
-        1000, 2**12 + 2, 10 * 2**12, 10**5,  # even, with other prime factors
+        2**12 + 2, 7 * 2**11, 2 * 1009, 6006, 2 * 7 * 10**4,  # even, other prime factors
     ],
 )  # fmt: skip
 def test_matches_numpy_at_other_sizes(n: int) -> None:
@@ -118,7 +125,7 @@ def test_any_length_matches_numpy(n: int, seed: int, shift: int) -> None:
 
 def test_embedded_buffers_are_reused_without_drift() -> None:
     # the zero padding of the embedding must stay zero from call to call
-    n = 1000
+    n = 1001
     rng = np.random.default_rng(5)
     op = CirculantConvolution(rng.random(n // 2 + 1), n)
     values = rng.standard_normal(n)

@@ -8,23 +8,24 @@ time with scalar butterflies; this one is laid out for SIMD instead:
   imaginary part), held as separate real and imaginary arrays;
 * the complex FFT of length N = N1·N2 is done in four steps (Bailey): N2 transforms of length N1
   down the columns of the N1 × N2 matrix, a twiddle factor, a transpose, and N1 transforms of
-  length N2 (N1 divides N2). Each batch of short transforms is a Stockham sweep (radix 3 for
-  the factors 3, then radix 4 and 2) whose innermost loop runs over the contiguous batch
+  length N2 (N1 divides N2). Each batch of short transforms is a Stockham sweep (radix 5 and 3
+  for those factors, then radix 4 and 2) whose innermost loop runs over the contiguous batch
   index, so every butterfly is a vector operation;
 * one pass separates the even and odd spectra, multiplies by the real response λ and builds the
   half-length spectrum of the inverse; the inverse is the same forward transform of the
   conjugate.
 
-This serves every even n ≥ ``MIN_SIZE`` with n/2 = 2^a·3^b (:func:`fast_size`: powers of two,
-3·2^k, …). Any other length n (odd, another prime factor, or shorter than ``MIN_SIZE``) is
-embedded in the smallest such length M ≥ 2n − 1 (:func:`transform_size`). The circulant
-product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the response to a unit load at
-node 0 (real and even, as λ is real). Padding v with zeros to M points and wrapping a onto M
-points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between) gives a circulant
-product of M points whose first n values are u, because every difference i − j of two nodes
-lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real and the transform
-pair above serves unchanged. This is the convolution step of Bluestein's algorithm without its
-chirps: one real transform pair of length M per product (2n ≤ M < 2.4n above 128 points).
+This serves every even n ≥ ``MIN_SIZE`` with n/2 = 2^a·3^b·5^c (:func:`fast_size`: powers of
+two, 3·2^k, 10^k, …). Any other length n (odd, another prime factor, or shorter than
+``MIN_SIZE``) is embedded in the smallest such length M ≥ 2n − 1 (:func:`transform_size`).
+The circulant product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the response to a
+unit load at node 0 (real and even, as λ is real). Padding v with zeros to M points and
+wrapping a onto M points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between)
+gives a circulant product of M points whose first n values are u, because every difference
+i − j of two nodes lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real
+and the transform pair above serves unchanged. This is the convolution step of Bluestein's
+algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 2.4n
+above 128 points).
 
 Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(ε log N)).
 """
@@ -50,14 +51,15 @@ _PAD = 8
 
 
 def _smooth(n: int) -> bool:
-    """True when n > 0 has no prime factor other than 2 and 3."""
-    while n % 3 == 0:
-        n //= 3
+    """True when n > 0 has no prime factor other than 2, 3 and 5."""
+    for factor in (3, 5):
+        while n > 0 and n % factor == 0:
+            n //= factor
     return n > 0 and n & (n - 1) == 0
 
 
 def fast_size(n: int) -> bool:
-    """True when ``n`` ≥ ``MIN_SIZE`` is even and n/2 = 2^a·3^b (transformed directly)."""
+    """True when ``n`` ≥ ``MIN_SIZE`` is even and n/2 = 2^a·3^b·5^c (transformed directly)."""
     return n >= MIN_SIZE and n % 2 == 0 and _smooth(n // 2)
 
 
@@ -71,13 +73,16 @@ def transform_size(n: int) -> int:
         return n
     target = max(2 * n - 1, MIN_SIZE)
     best = 4 * target
-    three = 1
-    while 2 * three < best:  # each 2·3^b·2^a: the smallest one ≥ target for every b
-        size = 2 * three
-        while size < target:
-            size *= 2
-        best = min(best, size)
-        three *= 3
+    five = 1
+    while 2 * five < best:  # each 2·5^c·3^b·2^a: the smallest one ≥ target for every b, c
+        odd = five
+        while 2 * odd < best:
+            size = 2 * odd
+            while size < target:
+                size *= 2
+            best = min(best, size)
+            odd *= 3
+        five *= 5
     return best
 
 
@@ -85,7 +90,7 @@ def _split(big: int) -> int:
     """n1 of the four-step split big = n1·n2: the largest n1 ≤ √big that divides n2.
 
     :func:`_middle` writes runs of n1 consecutive values into rows of n2, so n1 | n2; for
-    big = 2^a·3^b that is n1 = 2^⌊a/2⌋·3^⌊b/2⌋.
+    big = 2^a·3^b·5^c that is n1 = 2^⌊a/2⌋·3^⌊b/2⌋·5^⌊c/2⌋.
     """
     return max(d for d in range(1, math.isqrt(big) + 1) if big % (d * d) == 0)
 
@@ -199,6 +204,97 @@ def _stage4(
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
+def _stage5(
+    xr: NDArray[np.float64],
+    xi: NDArray[np.float64],
+    yr: NDArray[np.float64],
+    yi: NDArray[np.float64],
+    m: int,
+    s: int,
+    batch: int,
+    stride: int,
+    wr: NDArray[np.float64],
+    wi: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """One radix-5 Stockham stage: sub-transforms of 5m points, stride s rows, into y."""
+    c1 = math.cos(0.4 * math.pi)
+    c2 = math.cos(0.8 * math.pi)
+    s1 = math.sin(0.4 * math.pi)
+    s2 = math.sin(0.8 * math.pi)
+    step_in = s * m * stride
+    step_out = s * stride
+    for p in range(m):
+        w1r = wr[p * s]
+        w1i = wi[p * s]
+        w2r = wr[2 * p * s]
+        w2i = wi[2 * p * s]
+        w3r = wr[3 * p * s]
+        w3i = wi[3 * p * s]
+        w4r = wr[4 * p * s]
+        w4i = wi[4 * p * s]
+        for q in range(s):
+            i0 = (q + s * p) * stride
+            o0 = (q + s * 5 * p) * stride
+            x0r = xr[i0 : i0 + batch]
+            x0i = xi[i0 : i0 + batch]
+            x1r = xr[i0 + step_in : i0 + step_in + batch]
+            x1i = xi[i0 + step_in : i0 + step_in + batch]
+            x2r = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
+            x2i = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
+            x3r = xr[i0 + 3 * step_in : i0 + 3 * step_in + batch]
+            x3i = xi[i0 + 3 * step_in : i0 + 3 * step_in + batch]
+            x4r = xr[i0 + 4 * step_in : i0 + 4 * step_in + batch]
+            x4i = xi[i0 + 4 * step_in : i0 + 4 * step_in + batch]
+            y0r = yr[o0 : o0 + batch]
+            y0i = yi[o0 : o0 + batch]
+            y1r = yr[o0 + step_out : o0 + step_out + batch]
+            y1i = yi[o0 + step_out : o0 + step_out + batch]
+            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
+            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
+            y3r = yr[o0 + 3 * step_out : o0 + 3 * step_out + batch]
+            y3i = yi[o0 + 3 * step_out : o0 + 3 * step_out + batch]
+            y4r = yr[o0 + 4 * step_out : o0 + 4 * step_out + batch]
+            y4i = yi[o0 + 4 * step_out : o0 + 4 * step_out + batch]
+            for b in range(batch):
+                # t1 = x1 + x4, t2 = x2 + x3, t3 = x1 − x4, t4 = x2 − x3
+                t1r = x1r[b] + x4r[b]
+                t1i = x1i[b] + x4i[b]
+                t2r = x2r[b] + x3r[b]
+                t2i = x2i[b] + x3i[b]
+                t3r = x1r[b] - x4r[b]
+                t3i = x1i[b] - x4i[b]
+                t4r = x2r[b] - x3r[b]
+                t4i = x2i[b] - x3i[b]
+                y0r[b] = x0r[b] + t1r + t2r
+                y0i[b] = x0i[b] + t1i + t2i
+                # y1, y4 = a1 ∓ i·b1 and y2, y3 = a2 ∓ i·b2
+                a1r = x0r[b] + c1 * t1r + c2 * t2r
+                a1i = x0i[b] + c1 * t1i + c2 * t2i
+                a2r = x0r[b] + c2 * t1r + c1 * t2r
+                a2i = x0i[b] + c2 * t1i + c1 * t2i
+                b1r = s1 * t3r + s2 * t4r
+                b1i = s1 * t3i + s2 * t4i
+                b2r = s2 * t3r - s1 * t4r
+                b2i = s2 * t3i - s1 * t4i
+                tr = a1r + b1i
+                ti = a1i - b1r
+                y1r[b] = tr * w1r - ti * w1i
+                y1i[b] = tr * w1i + ti * w1r
+                tr = a2r + b2i
+                ti = a2i - b2r
+                y2r[b] = tr * w2r - ti * w2i
+                y2i[b] = tr * w2i + ti * w2r
+                tr = a2r - b2i
+                ti = a2i + b2r
+                y3r[b] = tr * w3r - ti * w3i
+                y3i[b] = tr * w3i + ti * w3r
+                tr = a1r - b1i
+                ti = a1i + b1r
+                y4r[b] = tr * w4r - ti * w4i
+                y4i[b] = tr * w4i + ti * w4r
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True)
 def _stage3(
     xr: NDArray[np.float64],
     xi: NDArray[np.float64],
@@ -269,9 +365,9 @@ def _batched_fft(
 ) -> bool:  # pragma: no cover - compiled
     """``batch`` forward FFTs of ``length`` points, element (row r, column b) at r·stride + b.
 
-    Stockham radix-3 stages for the factors 3 of ``length`` (a 2^a·3^b number), then radix 4 (and
-    one radix-2 stage for an odd power of two; decimation in frequency, self-sorting), ping-pong
-    between x and y; ``w`` holds exp(−2πik/length) for k < length.
+    Stockham radix-5 and radix-3 stages for those factors of ``length`` (2^a·3^b·5^c), then
+    radix 4 (and one radix-2 stage for an odd power of two; decimation in frequency,
+    self-sorting), ping-pong between x and y; ``w`` holds exp(−2πik/length) for k < length.
     Returns True when the result is in y.
     """
     # one call site per stage kind (the buffers swapped by reference): the compiled stages are
@@ -281,7 +377,11 @@ def _batched_fft(
     in_y = False
     while n > 1:
         src_r, src_i, dst_r, dst_i = (yr, yi, xr, xi) if in_y else (xr, xi, yr, yi)
-        if n % 3 == 0:
+        if n % 5 == 0:
+            m = n // 5
+            _stage5(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
+            s *= 5
+        elif n % 3 == 0:
             m = n // 3
             _stage3(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
             s *= 3
