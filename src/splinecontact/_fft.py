@@ -24,7 +24,7 @@ wrapping a onto M points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, 
 gives a circulant product of M points whose first n values are u, because every difference
 i − j of two nodes lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real
 and the transform pair above serves unchanged. This is the convolution step of Bluestein's
-algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 2.4n
+algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 2.25n
 above 128 points).
 
 Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(ε log N)).
