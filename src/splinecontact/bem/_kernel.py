@@ -1,8 +1,8 @@
 """The compiled Polonsky–Keer load-control loop of the BEM and its fused passes.
 
 One loop for every grid size: the operator u = A p is the package's compiled circulant product
-(:func:`splinecontact._fft.circulant`: grids with n/2 = 2^a·3^b directly, any other grid
-embedded in such a length), called from inside the loop.
+(:func:`splinecontact._fft.circulant`: grids with n/2 = 2^a·3^b·5^c directly, any other
+grid embedded in such a length), called from inside the loop.
 """
 
 from __future__ import annotations
