@@ -1,17 +1,19 @@
 """CPU time of one application of the BEM's elastic operator, u = irfft(λ · rfft(p)).
 
-    python benchmarks/bench_fft.py
+    python benchmarks/bench_fft.py                      # 2^14, 2^16, 3·2^14 and 10^5 points
+    python benchmarks/bench_fft.py 4096 12288           # other grid sizes
 
 Four ways, interleaved in rounds so that a drift of the machine hits all of them: scipy.fft
 returning new arrays, scipy.fft with ``workers=2``, numpy.fft writing into preallocated buffers
 (``out=``), and the package's compiled transform pair (``splinecontact._fft``), which the solver
-uses on power-of-two grids. Median CPU time (``time.process_time``) per call over the rounds,
-wall time beside.
+uses on every grid (directly when n/2 = 2^a·3^b, zero-padded otherwise). Median CPU time
+(``time.process_time``) per call over the rounds, wall time beside.
 """
 
 from __future__ import annotations
 
 import statistics
+import sys
 import time
 
 import numpy as np
@@ -21,7 +23,8 @@ from splinecontact._fft import CirculantConvolution
 
 
 def main() -> None:
-    for n in (2**14, 2**16):
+    sizes = [int(a) for a in sys.argv[1:]] or [2**14, 2**16, 3 * 2**14, 10**5]
+    for n in sizes:
         _one_size(n)
 
 

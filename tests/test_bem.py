@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact import Profile, bem
+from splinecontact import Profile, _fft, bem
 from splinecontact import reference as ref
 from splinecontact.errors import BEMError, NoConvergenceError, ParameterError
 
@@ -443,9 +443,9 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
     from bem_legacy import legacy_load_path
 
     if not sparse_updates:  # every iteration re-applies the operator with an FFT pair,
-        monkeypatch.setattr(bem, "_sparse_limit", lambda n: -1)
-        monkeypatch.setattr(bem, "_SMALL_FFT", 0)  # through the preallocated-buffer path
-        monkeypatch.setattr(bem, "fast_size", lambda n: False)  # (not the compiled transform)
+        monkeypatch.setattr(bem._solver, "_sparse_limit", lambda n: -1)
+        # through the embedding in a transform of 2n points (not the direct transform)
+        monkeypatch.setattr(_fft, "transform_size", lambda n: 2 * n)
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 21) / 20
     path = bem.load_path(problem, loads, fields=True)
@@ -464,24 +464,43 @@ def test_fused_solver_matches_legacy_loop(monkeypatch, sparse_updates):
     assert abs(new_total - old_total) <= 0.02 * old_total
 
 
-def test_compiled_loop_matches_python_loop_and_other_transforms(monkeypatch):
-    # the whole loop compiled gives the same iterates as the same kernels driven from Python;
-    # numpy's FFT instead of the compiled transform moves only rounding: same contact sets,
-    # mean gaps to 1e-9
+def test_compiled_loop_matches_the_embedded_transform(monkeypatch):
+    # the one compiled loop with the direct transform and with the same grid embedded in a
+    # transform of twice its length (the path of odd grids and other prime factors) moves only
+    # rounding: same contact sets, mean gaps to 1e-9; and each is reproducible to the bit
     problem = _rough_problem(2**12)
     loads = 0.048 * E_STAR * 0.1 * np.arange(1, 11) / 10
     compiled = bem.load_path(problem, loads, fields=True)
-    monkeypatch.setattr(bem, "_COMPILED_LOOP", False)
-    python = bem.load_path(problem, loads, fields=True)
-    monkeypatch.setattr(bem, "fast_size", lambda n: False)
-    monkeypatch.setattr(bem, "_SMALL_FFT", 0)
-    numpy_fft = bem.load_path(problem, loads, fields=True)
-    for a, b, c in zip(compiled.steps, python.steps, numpy_fft.steps, strict=True):
+    again = bem.load_path(problem, loads, fields=True)
+    monkeypatch.setattr(_fft, "transform_size", lambda n: 2 * n)
+    embedded = bem.load_path(problem, loads, fields=True)
+    for a, b, c in zip(compiled.steps, again.steps, embedded.steps, strict=True):
         assert a.pressure is not None and b.pressure is not None and c.pressure is not None
         np.testing.assert_array_equal(a.pressure, b.pressure)
         assert a.iterations == b.iterations and a.mean_gap == b.mean_gap
         np.testing.assert_array_equal(a.pressure > 0.0, c.pressure > 0.0)
         assert a.mean_gap == pytest.approx(c.mean_gap, rel=1e-9, abs=0.0)
+
+
+@pytest.mark.parametrize("n", [3 * 2**10, 1999])
+def test_compiled_loop_matches_legacy_loop_on_other_grid_sizes(n):
+    # grids that are not a power of two run the same compiled loop (3·2^10 transformed
+    # directly with radix-3 stages, a prime through the embedding): same contact set at every
+    # step, mean gaps to 1e-9 and the legacy iteration count
+    from bem_legacy import legacy_load_path
+
+    problem = _rough_problem(n)
+    loads = 0.048 * E_STAR * 0.1 * np.arange(1, 11) / 10
+    path = bem.load_path(problem, loads, fields=True)
+    legacy = legacy_load_path(problem, loads, bem.DEFAULT_TOLERANCE)
+    for step, old in zip(path.steps, legacy, strict=True):
+        assert step.pressure is not None
+        np.testing.assert_array_equal(step.pressure > 0.0, old.pressure > 0.0)
+        old_gap = old.separation - problem.mean_height
+        assert step.mean_gap == pytest.approx(old_gap, rel=1e-9, abs=0.0)
+        np.testing.assert_allclose(step.pressure, old.pressure, rtol=0, atol=1e-6 * loads[-1])
+    old_total = sum(s.iterations for s in legacy)
+    assert abs(int(path.column("iterations").sum()) - old_total) <= 0.02 * old_total
 
 
 def test_returned_gap_is_that_of_the_returned_pressure():

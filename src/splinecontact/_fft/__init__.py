@@ -1,4 +1,4 @@
-"""A compiled circulant convolution by real FFT: u = irfft(λ · rfft(v)) for power-of-two sizes.
+"""A compiled circulant convolution by real FFT: u = irfft(λ · rfft(v)) for any length n.
 
 The boundary element solver applies its elastic operator once or twice per iteration, so this
 transform pair is its inner loop. numpy's and scipy's FFTs (pocketfft) run one transform at a
@@ -8,11 +8,24 @@ time with scalar butterflies; this one is laid out for SIMD instead:
   imaginary part), held as separate real and imaginary arrays;
 * the complex FFT of length N = N1·N2 is done in four steps (Bailey): N2 transforms of length N1
   down the columns of the N1 × N2 matrix, a twiddle factor, a transpose, and N1 transforms of
-  length N2. Each batch of short transforms is a Stockham radix-2 sweep whose innermost loop
-  runs over the contiguous batch index, so every butterfly is a vector operation;
+  length N2 (N1 divides N2). Each batch of short transforms is a Stockham sweep (radix 5 and 3
+  for those factors, then radix 4 and 2) whose innermost loop runs over the contiguous batch
+  index, so every butterfly is a vector operation;
 * one pass separates the even and odd spectra, multiplies by the real response λ and builds the
   half-length spectrum of the inverse; the inverse is the same forward transform of the
   conjugate.
+
+This serves every even n ≥ ``MIN_SIZE`` with n/2 = 2^a·3^b·5^c (:func:`fast_size`: powers of
+two, 3·2^k, 10^k, …). Any other length n (odd, another prime factor, or shorter than
+``MIN_SIZE``) is embedded in the smallest such length M ≥ 2n − 1 (:func:`transform_size`).
+The circulant product of n points is u_i = Σ_j a_{(i−j) mod n} v_j with a the response to a
+unit load at node 0 (real and even, as λ is real). Padding v with zeros to M points and
+wrapping a onto M points (a'_k = a_k for k < n, a'_{M−k} = a_k for 0 < k < n, zero between)
+gives a circulant product of M points whose first n values are u, because every difference
+i − j of two nodes lies in (−n, n). a' is real and even, so its response λ' = rfft(a') is real
+and the transform pair above serves unchanged. This is the convolution step of Bluestein's
+algorithm without its chirps: one real transform pair of length M per product (2n ≤ M < 2.25n
+above 128 points).
 
 Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(ε log N)).
 """
@@ -26,166 +39,61 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import BEMError
+from ..errors import BEMError
+from ._stages import _batched_fft
 
-__all__ = ["CirculantConvolution", "fast_size"]
+__all__ = ["CirculantConvolution", "circulant", "fast_size", "transform_size"]
 
-#: Smallest real length handled by the compiled transform (below it the caller uses scipy).
+#: Shortest transform; shorter grids are embedded in a transform of at least this length.
 MIN_SIZE = 256
 
 #: Padding [values] of every row of the work matrices (one cache line).
 _PAD = 8
 
 
+def _smooth(n: int) -> bool:
+    """True when n > 0 has no prime factor other than 2, 3 and 5."""
+    for factor in (3, 5):
+        while n > 0 and n % factor == 0:
+            n //= factor
+    return n > 0 and n & (n - 1) == 0
+
+
 def fast_size(n: int) -> bool:
-    """True when ``n`` is a power of two of at least ``MIN_SIZE`` points."""
-    return n >= MIN_SIZE and n & (n - 1) == 0
+    """True when ``n`` ≥ ``MIN_SIZE`` is even and n/2 = 2^a·3^b·5^c (transformed directly)."""
+    return n >= MIN_SIZE and n % 2 == 0 and _smooth(n // 2)
 
 
-@numba.njit(cache=True, nogil=True, fastmath=True)
-def _stage(
-    xr: NDArray[np.float64],
-    xi: NDArray[np.float64],
-    yr: NDArray[np.float64],
-    yi: NDArray[np.float64],
-    m: int,
-    s: int,
-    batch: int,
-    stride: int,
-    wr: NDArray[np.float64],
-    wi: NDArray[np.float64],
-) -> None:  # pragma: no cover - compiled
-    """One radix-2 Stockham stage: sub-transforms of 2m points, stride s rows, into y."""
-    for p in range(m):
-        c = wr[p * s]
-        d = wi[p * s]
-        for q in range(s):
-            i0 = (q + s * p) * stride
-            i1 = (q + s * (p + m)) * stride
-            o0 = (q + s * 2 * p) * stride
-            o1 = o0 + s * stride
-            ar = xr[i0 : i0 + batch]
-            ai = xi[i0 : i0 + batch]
-            br = xr[i1 : i1 + batch]
-            bi = xi[i1 : i1 + batch]
-            sr = yr[o0 : o0 + batch]
-            si = yi[o0 : o0 + batch]
-            dr = yr[o1 : o1 + batch]
-            di = yi[o1 : o1 + batch]
-            for b in range(batch):
-                er = ar[b] - br[b]
-                ei = ai[b] - bi[b]
-                sr[b] = ar[b] + br[b]
-                si[b] = ai[b] + bi[b]
-                dr[b] = er * c - ei * d
-                di[b] = er * d + ei * c
+def transform_size(n: int) -> int:
+    """Length M of the transform pair that serves a circulant product of n points.
 
-
-@numba.njit(cache=True, nogil=True, fastmath=True)
-def _stage4(
-    xr: NDArray[np.float64],
-    xi: NDArray[np.float64],
-    yr: NDArray[np.float64],
-    yi: NDArray[np.float64],
-    m: int,
-    s: int,
-    batch: int,
-    stride: int,
-    wr: NDArray[np.float64],
-    wi: NDArray[np.float64],
-) -> None:  # pragma: no cover - compiled
-    """One radix-4 Stockham stage: sub-transforms of 4m points, stride s rows, into y."""
-    for p in range(m):
-        c1 = wr[p * s]
-        d1 = wi[p * s]
-        c2 = wr[2 * p * s]
-        d2 = wi[2 * p * s]
-        c3 = wr[3 * p * s]
-        d3 = wi[3 * p * s]
-        for q in range(s):
-            i0 = (q + s * p) * stride
-            step_in = s * m * stride
-            o0 = (q + s * 4 * p) * stride
-            step_out = s * stride
-            ar = xr[i0 : i0 + batch]
-            ai = xi[i0 : i0 + batch]
-            br = xr[i0 + step_in : i0 + step_in + batch]
-            bi = xi[i0 + step_in : i0 + step_in + batch]
-            cr = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            ci = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            dr = xr[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            di = xi[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            y0r = yr[o0 : o0 + batch]
-            y0i = yi[o0 : o0 + batch]
-            y1r = yr[o0 + step_out : o0 + step_out + batch]
-            y1i = yi[o0 + step_out : o0 + step_out + batch]
-            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y3r = yr[o0 + 3 * step_out : o0 + 3 * step_out + batch]
-            y3i = yi[o0 + 3 * step_out : o0 + 3 * step_out + batch]
-            for b in range(batch):
-                apcr = ar[b] + cr[b]
-                apci = ai[b] + ci[b]
-                amcr = ar[b] - cr[b]
-                amci = ai[b] - ci[b]
-                bpdr = br[b] + dr[b]
-                bpdi = bi[b] + di[b]
-                bmdr = br[b] - dr[b]
-                bmdi = bi[b] - di[b]
-                y0r[b] = apcr + bpdr
-                y0i[b] = apci + bpdi
-                # (a − c) − i(b − d)
-                tr = amcr + bmdi
-                ti = amci - bmdr
-                y1r[b] = tr * c1 - ti * d1
-                y1i[b] = tr * d1 + ti * c1
-                tr = apcr - bpdr
-                ti = apci - bpdi
-                y2r[b] = tr * c2 - ti * d2
-                y2i[b] = tr * d2 + ti * c2
-                # (a − c) + i(b − d)
-                tr = amcr - bmdi
-                ti = amci + bmdr
-                y3r[b] = tr * c3 - ti * d3
-                y3i[b] = tr * d3 + ti * c3
-
-
-@numba.njit(cache=True, nogil=True, fastmath=True)
-def _batched_fft(
-    xr: NDArray[np.float64],
-    xi: NDArray[np.float64],
-    yr: NDArray[np.float64],
-    yi: NDArray[np.float64],
-    length: int,
-    batch: int,
-    stride: int,
-    wr: NDArray[np.float64],
-    wi: NDArray[np.float64],
-) -> bool:  # pragma: no cover - compiled
-    """``batch`` forward FFTs of ``length`` points, element (row r, column b) at r·stride + b.
-
-    Stockham radix-4 (and one radix-2 stage for odd powers of two; decimation in frequency,
-    self-sorting), ping-pong between x and y; ``w`` holds exp(−2πik/length) for k < length.
-    Returns True when the result is in y.
+    ``n`` itself when :func:`fast_size`, otherwise the smallest fast size ≥ max(2n − 1,
+    ``MIN_SIZE``) (the zero-padded embedding described in the module docstring).
     """
-    # one call site per stage kind (the buffers swapped by reference): the compiled stages are
-    # inlined where they are called, and every copy costs compilation time
-    n = length
-    s = 1
-    in_y = False
-    while n > 1:
-        src_r, src_i, dst_r, dst_i = (yr, yi, xr, xi) if in_y else (xr, xi, yr, yi)
-        if n >= 4:
-            m = n // 4
-            _stage4(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
-            s *= 4
-        else:
-            m = n // 2
-            _stage(src_r, src_i, dst_r, dst_i, m, s, batch, stride, wr, wi)
-            s *= 2
-        in_y = not in_y
-        n = m
-    return in_y
+    if fast_size(n):
+        return n
+    target = max(2 * n - 1, MIN_SIZE)
+    best = 4 * target
+    five = 1
+    while 2 * five < best:  # each 2·5^c·3^b·2^a: the smallest one ≥ target for every b, c
+        odd = five
+        while 2 * odd < best:
+            size = 2 * odd
+            while size < target:
+                size *= 2
+            best = min(best, size)
+            odd *= 3
+        five *= 5
+    return best
+
+
+def _split(big: int) -> int:
+    """n1 of the four-step split big = n1·n2: the largest n1 ≤ √big that divides n2.
+
+    :func:`_middle` writes runs of n1 consecutive values into rows of n2, so n1 | n2; for
+    big = 2^a·3^b·5^c that is n1 = 2^⌊a/2⌋·3^⌊b/2⌋·5^⌊c/2⌋.
+    """
+    return max(d for d in range(1, math.isqrt(big) + 1) if big % (d * d) == 0)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -371,6 +279,40 @@ def _convolve(
     _store(fr, fi, out, n1, n2)
 
 
+@numba.njit(cache=True, nogil=True)
+def circulant(
+    values: NDArray[np.float64],
+    out: NDArray[np.float64],
+    padded_in: NDArray[np.float64],
+    padded_out: NDArray[np.float64],
+    *transform: Any,
+) -> None:  # pragma: no cover - compiled
+    """out = the circulant product of ``values`` (n points) for any n.
+
+    With empty ``padded_*`` buffers (n a fast size) the transform pair works on ``values``
+    directly; otherwise ``values`` goes into the first n entries of ``padded_in`` (the rest
+    stays zero), the product of M points into ``padded_out``, and its first n entries are u.
+    ``transform`` are the arguments of :func:`_convolve` after (values, out); all arguments
+    after (values, out) are :attr:`CirculantConvolution.arguments`.
+    """
+    if padded_in.size == 0:
+        _convolve(values, out, *transform)
+        return
+    n = values.size
+    padded_in[:n] = values
+    _convolve(padded_in, padded_out, *transform)
+    out[:] = padded_out[:n]
+
+
+def _embedded_response(response: NDArray[np.float64], n: int, size: int) -> NDArray[np.float64]:
+    """λ' of the M-point product whose first n values are the n-point one (module docstring)."""
+    column = np.fft.irfft(response, n)  # a: the response to a unit load at node 0 (even)
+    wrapped = np.zeros(size)
+    wrapped[:n] = column
+    wrapped[size - n + 1 :] = column[1:]
+    return np.ascontiguousarray(np.fft.rfft(wrapped).real)
+
+
 def _unit_circle(
     numerator: NDArray[np.int64], denominator: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -380,50 +322,57 @@ def _unit_circle(
 
 
 class CirculantConvolution:
-    """u = irfft(λ · rfft(v)) for a fixed real response λ and a power-of-two length n.
+    """u = irfft(λ · rfft(v), n) for a fixed real response λ and any length n ≥ 2.
 
     Parameters
     ----------
     response : ndarray
-        λ_k for k = 0 … n/2 [any unit].
+        λ_k for k = 0 … n//2 [any unit].
     n : int
-        Real length, a power of two ≥ ``MIN_SIZE`` (see :func:`fast_size`).
+        Real length; a :func:`fast_size` is transformed directly, any other length through
+        the embedding in a longer fast size (:func:`transform_size`).
     """
 
     def __init__(self, response: NDArray[np.float64], n: int) -> None:
-        if not fast_size(n) or response.shape != (n // 2 + 1,):
+        if n < 2 or response.shape != (n // 2 + 1,):
             raise BEMError(
-                f"the compiled transform needs a power of two ≥ {MIN_SIZE} points and n/2 + 1 "
-                f"response modes, got {n} points and {response.shape} modes; use scipy.fft"
+                f"the circulant product needs n ≥ 2 points and n//2 + 1 response modes, got {n} "
+                f"points and {response.shape} modes; pass the rfft response of the n-point grid"
             )
-        big = n // 2
-        bits = int(math.log2(big))
-        n1 = 1 << (bits // 2)
-        n2 = big // n1
         self.n = n
+        size = transform_size(n)
+        self.size = size
+        if size == n:
+            self.padded_in = self.padded_out = np.empty(0)
+            spectrum = np.ascontiguousarray(response, dtype=np.float64)
+        else:
+            self.padded_in = np.zeros(size)
+            self.padded_out = np.empty(size)
+            spectrum = _embedded_response(np.asarray(response, dtype=np.float64), n, size)
+        big = size // 2
+        n1 = _split(big)
+        n2 = big // n1
         self.n1 = n1
         self.n2 = n2
-        self.scaled = np.ascontiguousarray(response, dtype=np.float64) * (0.5 / n)
+        self.scaled = spectrum * (0.5 / size)
         self.w1r, self.w1i = _unit_circle(np.arange(n1), n1)
         self.w2r, self.w2i = _unit_circle(np.arange(n2), n2)
         c = np.arange(n2)[:, None]
         k1 = np.arange(n1)[None, :]
         self.tr, self.ti = (np.ascontiguousarray(a.ravel()) for a in _unit_circle(k1 * c, big))
-        self.hr, self.hi = _unit_circle(np.arange(big), n)
-        size = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
-        self.ar, self.ai, self.br, self.bi = (np.empty(size) for _ in range(4))
+        self.hr, self.hi = _unit_circle(np.arange(big), size)
+        work = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
+        self.ar, self.ai, self.br, self.bi = (np.empty(work) for _ in range(4))
 
     @property
     def arguments(self) -> tuple[Any, ...]:
-        """The arguments of :func:`_convolve` after (values, out), for compiled callers."""
+        """The arguments of :func:`circulant` after (values, out), for compiled callers."""
         return (
-            self.scaled, self.ar, self.ai, self.br, self.bi, self.n1, self.n2, self.w1r,
-            self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr, self.hi,
+            self.padded_in, self.padded_out, self.scaled, self.ar, self.ai, self.br, self.bi,
+            self.n1, self.n2, self.w1r, self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr,
+            self.hi,
         )  # fmt: skip
 
     def __call__(self, values: NDArray[np.float64], out: NDArray[np.float64]) -> None:
-        """Write irfft(λ · rfft(values)) into ``out`` (both of length n, float64, contiguous)."""
-        _convolve(
-            values, out, self.scaled, self.ar, self.ai, self.br, self.bi, self.n1, self.n2,
-            self.w1r, self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr, self.hi,
-        )  # fmt: skip
+        """Write irfft(λ · rfft(values), n) into ``out`` (length n, float64, contiguous)."""
+        circulant(values, out, *self.arguments)
