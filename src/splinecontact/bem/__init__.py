@@ -41,7 +41,7 @@ Modules
 * ``_problem``: :class:`ContactProblem`, :func:`contact_problem`, :func:`mirror_extend`.
 * ``_results``: :func:`contact_statistics`, :class:`BEMStep`, :class:`BEMPath`.
 * ``_kernel``: the compiled Polonsky–Keer loop and its fused passes (every grid size; the
-  operator is :func:`splinecontact._fft.circulant`).
+  operator is ``splinecontact._fft.circulant``).
 * ``_solver``: :func:`solve_pressure`, :func:`solve_gap`, :func:`load_path`, :func:`gap_path`.
 """
 
