@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
+import pytest
 from numpy.typing import NDArray
 
 ANGSTROM = 1e-4  # [µm]
@@ -20,3 +25,27 @@ def circle_cap(x: NDArray[np.float64], radius: float, centre: float = 0.0) -> ND
 def circle_cup(x: NDArray[np.float64], radius: float, centre: float = 0.0) -> NDArray[np.float64]:
     """Heights [µm] of a circular valley (cup) of the given radius [µm], bottom 0 at ``centre``."""
     return -circle_cap(x, radius, centre)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Before a parallel run of the whole default tier, compile the kernels once.
+
+    Only in the pytest-xdist controller (not in its workers), only with more than one worker
+    and only when no test selection was given (the README's test command): two processes
+    (``tests/_warm_kernels.py``, one part each) fill numba's on-disk cache side by side, so the
+    workers load the kernels instead of each compiling them. A part that fails changes nothing
+    but the time: the kernels then compile on first use, as always.
+    """
+    if hasattr(config, "workerinput") or not config.pluginmanager.hasplugin("xdist"):
+        return
+    if config.getoption("numprocesses", default=None) in (None, 0, "0"):
+        return
+    if config.args_source != pytest.Config.ArgsSource.TESTPATHS:
+        return
+    script = Path(__file__).with_name("_warm_kernels.py")
+    parts = [
+        subprocess.Popen([sys.executable, str(script), part], stdout=subprocess.DEVNULL)
+        for part in ("contact", "paths")
+    ]
+    for part in parts:
+        part.wait()

@@ -157,6 +157,10 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         gamma_u = np.zeros(2)
         slope_u = np.zeros(2)
         curv_u = np.zeros(2)
+        # read-only like a fit's arrays, so that the compiled path loop has one specialisation
+        # for rough and flat upper bodies (a second one costs ~40 s of compilation)
+        for placeholder in (f_u, slope_u, curv_u):
+            placeholder.setflags(write=False)
         placement = float(f_l.max())
         envelope = np.zeros(1)
     else:
