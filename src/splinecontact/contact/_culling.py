@@ -96,11 +96,11 @@ def block_max(values: NDArray[np.float64], block: int) -> NDArray[np.float64]:  
 
 @numba.njit(cache=True, nogil=True, inline="always")
 def _window_max(
-    coarse: NDArray[np.float64], width: int, k_lo: int, k_hi: int
+    coarse: NDArray[np.float64], c_lo: int, c_hi: int
 ) -> float:  # pragma: no cover - compiled
-    """Largest of the maxima ``coarse`` (of ``width`` knot intervals each) covering k_lo … k_hi."""
+    """Largest of coarse[c_lo … c_hi] (−∞ if none)."""
     e_max = -np.inf
-    for c in range(k_lo // width, min(coarse.size - 1, k_hi // width) + 1):
+    for c in range(c_lo, c_hi + 1):
         if coarse[c] > e_max:
             e_max = coarse[c]
     return e_max
@@ -128,7 +128,9 @@ def _window_bound(
     k_hi = min(m - 1, last + offset_hi)
     if k_hi < k_lo:
         return -np.inf
-    return f_l_max + _window_max(coarse, width, k_lo, k_hi) + margin
+    return (
+        f_l_max + _window_max(coarse, k_lo // width, min(coarse.size - 1, k_hi // width)) + margin
+    )
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -503,7 +505,10 @@ def step_runs(
             k_hi = min(m - 1, math.floor(i1 - shift) + 1)
             if k_hi < k_lo:
                 continue
-            if f_l_sub[q] + _window_max(envelope_sub, sub, k_lo, k_hi) + margin < threshold:
+            if (
+                f_l_sub[q] + _window_max(envelope_sub, k_lo // sub, k_hi // sub) + margin
+                < threshold
+            ):
                 continue
             if i0 == end:
                 run_len[n_runs - 1] += i1 + 1 - i0
