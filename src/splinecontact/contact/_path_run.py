@@ -25,8 +25,10 @@ from .path_kernel import (
     Springs,
     StepSums,
     _fixed_shift_values,
-    _pack_flagged,
+    _pack,
     _settle,
+    _upper_height,
+    _upper_slopes,
     migrate_cells_of,
     path_step,
 )
@@ -57,6 +59,8 @@ def slide_step(
     conservative eq. 9 filter keeps, and only those are evaluated again, alone, packed and
     decided exactly in grid order.
     """
+    f_l = surf.f_l
+    placement = surf.placement
     reach = material.reach
     shift = u / surf.dx
     flags = scratch.cl_flag
@@ -69,8 +73,19 @@ def slide_step(
             flag = flags[o + p]
             if flag == 0:
                 continue
-            n_packed, closed = _pack_flagged(scratch, n_packed, surf, i0 + p, shift, d, reach, flag)
-            n_closed += closed
+            i = i0 + p
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if flag == 2:
+                if g > reach:
+                    continue
+                n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_packed, surf, i, g, s1, s2)
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
         o += run_len[r]
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
