@@ -94,6 +94,73 @@ def block_max(values: NDArray[np.float64], block: int) -> NDArray[np.float64]:  
     return out
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _window_max(
+    coarse: NDArray[np.float64], c_lo: int, c_hi: int
+) -> float:  # pragma: no cover - compiled
+    """Largest of coarse[c_lo … c_hi] (−∞ if none)."""
+    e_max = -np.inf
+    for c in range(c_lo, c_hi + 1):
+        if coarse[c] > e_max:
+            e_max = coarse[c]
+    return e_max
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _window_bound(
+    f_l_max: float,
+    coarse: NDArray[np.float64],
+    width: int,
+    first: int,
+    last: int,
+    offset_lo: int,
+    offset_hi: int,
+    m: int,
+    margin: float,
+) -> float:  # pragma: no cover - compiled
+    """Upper bound of f^l + f^u over the points first … last [µm] (−∞ if they see no interval).
+
+    ``f_l_max`` is the maximum of f^l over them, ``coarse`` the maxima of ``width`` consecutive
+    interval envelopes; the points see the knot intervals
+    [first + offset_lo, last + offset_hi] ∩ [0, m − 1].
+    """
+    k_lo = max(0, first + offset_lo)
+    k_hi = min(m - 1, last + offset_hi)
+    if k_hi < k_lo:
+        return -np.inf
+    return (
+        f_l_max + _window_max(coarse, k_lo // width, min(coarse.size - 1, k_hi // width)) + margin
+    )
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _super_bound(
+    cull: Culling, n: int, m: int, sb: int, offset_lo: int, offset_hi: int
+) -> float:  # pragma: no cover - compiled
+    """:func:`_window_bound` of super-block sb (n points, m knot intervals) [µm]."""
+    span = cull.block * cull.per_super
+    p0 = sb * span
+    last = min(n, p0 + span) - 1
+    return _window_bound(
+        cull.f_l_super[sb], cull.envelope_super, span, p0, last, offset_lo, offset_hi, m,
+        cull.margin,
+    )  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _block_bound(
+    cull: Culling, n: int, m: int, b: int, offset_lo: int, offset_hi: int
+) -> float:  # pragma: no cover - compiled
+    """:func:`_window_bound` of block b (n points, m knot intervals) [µm]."""
+    block = cull.block
+    i0 = b * block
+    last = min(n, i0 + block) - 1
+    return _window_bound(
+        cull.f_l_block[b], cull.envelope_block, block, i0, last, offset_lo, offset_hi, m,
+        cull.margin,
+    )  # fmt: skip
+
+
 @numba.njit(cache=True, nogil=True)
 def candidate_bounds(
     surf: Surfaces,
@@ -117,17 +184,14 @@ def candidate_bounds(
     flat = surf.flat
     f_l_block = cull.f_l_block
     envelope = cull.envelope
-    envelope_block = cull.envelope_block
     block = cull.block
     f_l_super = cull.f_l_super
-    envelope_super = cull.envelope_super
     per_super = cull.per_super
     margin = cull.margin
     n = f_l.size
     count = 0
     nb = f_l_block.size
     n_super = f_l_super.size
-    span = block * per_super
     if flat:
         for sb in range(n_super):
             if f_l_super[sb] + margin < threshold:
@@ -143,39 +207,20 @@ def candidate_bounds(
                         count += 1
         return count
     m = envelope.size
-    m_super = envelope_super.size
     # Monotonic queue of knot intervals (decreasing envelope): the window maximum of every point
     # of a block in O(block + window) instead of O(block × window).
     queue = np.empty(block + max(0, offset_hi - offset_lo) + 2, dtype=np.int64)
     for sb in range(n_super):
-        p0 = sb * span
-        p1 = min(n, p0 + span) - 1
-        s_lo = max(0, p0 + offset_lo)
-        s_hi = min(m - 1, p1 + offset_hi)
-        if s_hi < s_lo:
-            continue
-        e_super = -np.inf
-        for ks in range(s_lo // span, min(m_super - 1, s_hi // span) + 1):
-            if envelope_super[ks] > e_super:
-                e_super = envelope_super[ks]
-        if f_l_super[sb] + e_super + margin < threshold:
+        if _super_bound(cull, n, m, sb, offset_lo, offset_hi) < threshold:
             continue
         for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
+            if _block_bound(cull, n, m, b, offset_lo, offset_hi) < threshold:
+                continue
             i0 = b * block
             i1 = min(n, i0 + block) - 1
-            k_lo = max(0, i0 + offset_lo)
-            k_hi = min(m - 1, i1 + offset_hi)
-            if k_hi < k_lo:
-                continue
-            e_max = -np.inf
-            for kb in range(k_lo // block, k_hi // block + 1):
-                if envelope_block[kb] > e_max:
-                    e_max = envelope_block[kb]
-            if f_l_block[b] + e_max + margin < threshold:
-                continue
             head = 0
             tail = 0
-            nxt = k_lo  # next knot interval to enter the queue
+            nxt = max(0, i0 + offset_lo)  # next knot interval to enter the queue
             for i in range(i0, i1 + 1):
                 lo = max(0, i + offset_lo)
                 hi = min(m - 1, i + offset_hi)
@@ -408,43 +453,16 @@ def candidate_blocks(
     maximum of f^l over it plus the largest interval envelope over its window is ≥
     ``threshold``. Returns how many were written to ``out_blocks``.
     """
-    f_l = surf.f_l
-    f_l_block = cull.f_l_block
-    envelope_block = cull.envelope_block
-    block = cull.block
-    f_l_super = cull.f_l_super
-    envelope_super = cull.envelope_super
-    per_super = cull.per_super
-    margin = cull.margin
-    n = f_l.size
+    n = surf.f_l.size
     m = cull.envelope.size
-    nb = f_l_block.size
-    m_super = envelope_super.size
-    span = block * per_super
+    per_super = cull.per_super
+    nb = cull.f_l_block.size
     count = 0
-    for sb in range(f_l_super.size):
-        p0 = sb * span
-        s_lo = max(0, p0 + offset_lo)
-        s_hi = min(m - 1, min(n, p0 + span) - 1 + offset_hi)
-        if s_hi < s_lo:
-            continue
-        e_super = -np.inf
-        for ks in range(s_lo // span, min(m_super - 1, s_hi // span) + 1):
-            if envelope_super[ks] > e_super:
-                e_super = envelope_super[ks]
-        if f_l_super[sb] + e_super + margin < threshold:
+    for sb in range(cull.f_l_super.size):
+        if _super_bound(cull, n, m, sb, offset_lo, offset_hi) < threshold:
             continue
         for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
-            i0 = b * block
-            k_lo = max(0, i0 + offset_lo)
-            k_hi = min(m - 1, min(n, i0 + block) - 1 + offset_hi)
-            if k_hi < k_lo:
-                continue
-            e_max = -np.inf
-            for kb in range(k_lo // block, k_hi // block + 1):
-                if envelope_block[kb] > e_max:
-                    e_max = envelope_block[kb]
-            if f_l_block[b] + e_max + margin >= threshold:
+            if _block_bound(cull, n, m, b, offset_lo, offset_hi) >= threshold:
                 out_blocks[count] = b
                 count += 1
     return count
@@ -487,11 +505,10 @@ def step_runs(
             k_hi = min(m - 1, math.floor(i1 - shift) + 1)
             if k_hi < k_lo:
                 continue
-            e_max = -np.inf
-            for kq in range(k_lo // sub, k_hi // sub + 1):
-                if envelope_sub[kq] > e_max:
-                    e_max = envelope_sub[kq]
-            if f_l_sub[q] + e_max + margin < threshold:
+            if (
+                f_l_sub[q] + _window_max(envelope_sub, k_lo // sub, k_hi // sub) + margin
+                < threshold
+            ):
                 continue
             if i0 == end:
                 run_len[n_runs - 1] += i1 + 1 - i0

@@ -26,6 +26,7 @@ from ..profile import Profile
 from ..results import SimulationResult
 from .geometry import check_bodies
 from .interaction import InteractionSettings, extended_geometry, interacting_loading
+from .loadpath import path_segments
 from .segments import Segment, validate_path
 
 __all__ = ["normal_path_displacements", "simulate_interacting_path"]
@@ -82,17 +83,7 @@ def simulate_interacting_path(
     """``simulate(..., path=..., interaction=True)`` (units as there; normal paths only)."""
     from .simulation import _record_steps, build_result, spline_fits
 
-    segments = validate_path(path)
-    if final_displacement is not None:
-        raise LoadPathError(
-            f"final_displacement = {final_displacement!r} µm and path were both given: the path "
-            "sets the displacements; drop final_displacement"
-        )
-    if steps != 1000:
-        raise LoadPathError(
-            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
-            "drop steps"
-        )
+    segments = path_segments(path, steps, final_displacement)
     displacement = normal_path_displacements(segments)
     total = displacement.size - 1
     record_steps = _record_steps(record_contacts, total)

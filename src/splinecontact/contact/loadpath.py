@@ -566,6 +566,28 @@ def run_path(
     return curves, tuple(contacts)
 
 
+def path_segments(
+    path: Iterable[Segment], steps: int, final_displacement: float | None
+) -> tuple[Segment, ...]:
+    """The validated segments of ``path`` given to ``simulate``.
+
+    ``steps`` [1] must keep its default 1000 and ``final_displacement`` [µm] must be ``None``:
+    the segments set both, so any other value raises :class:`.LoadPathError`.
+    """
+    segments = validate_path(path)
+    if final_displacement is not None:
+        raise LoadPathError(
+            f"final_displacement = {final_displacement!r} µm and path were both given: the path "
+            "sets the displacements; drop final_displacement"
+        )
+    if steps != 1000:
+        raise LoadPathError(
+            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
+            "drop steps"
+        )
+    return segments
+
+
 def simulate_path(
     lower: Profile,
     upper: Profile | Literal["flat"],
@@ -590,17 +612,7 @@ def simulate_path(
     """
     from .simulation import _record_steps, build_result, spline_fits
 
-    segments = validate_path(path)
-    if final_displacement is not None:
-        raise LoadPathError(
-            f"final_displacement = {final_displacement!r} µm and path were both given: the path "
-            "sets the displacements; drop final_displacement"
-        )
-    if steps != 1000:
-        raise LoadPathError(
-            f"steps = {steps!r} and path were both given: each Segment has its own steps; "
-            "drop steps"
-        )
+    segments = path_segments(path, steps, final_displacement)
     flat = isinstance(upper, str)
     if flat and upper != "flat":
         raise ParameterError(f"upper = {upper!r}: give a Profile or the string 'flat'")

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from ._culling import (
     Culling,
     Surfaces,
+    _may_touch,
     block_max,
     candidate_bounds,
     first_at_least,
@@ -188,6 +189,47 @@ def _pack(
     scratch.cl_nz[q] = surf.nl_z[i]
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _rigid_gap(
+    surf: Surfaces, i: int, shift: float
+) -> tuple[bool, float, int, float]:  # pragma: no cover - compiled
+    """(inside, C − (h^u + f^l), k, t) at lower point i: the gap before the approach δ_N."""
+    inside, h_u, k, t = _upper_height(surf, i, shift)
+    return inside, surf.placement - (h_u + surf.f_l[i]), k, t
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pack_flagged(
+    scratch: Scratch,
+    q: int,
+    surf: Surfaces,
+    i: int,
+    shift: float,
+    d: float,
+    reach: float,
+    flag: int,
+) -> tuple[int, int]:  # pragma: no cover - compiled
+    """Evaluate point i flagged by :func:`._culling.sliding_flags` alone; pack it as entry q.
+
+    A point flagged 1 is packed (``cl_keep`` set) when it is inside the upper body; one
+    flagged 2 (undecided) only when its gap is also ≤ ``reach`` [µm], and it then counts as
+    closed. Returns (the next free entry, the closed points added).
+    """
+    inside, g0, k, t = _rigid_gap(surf, i, shift)
+    if not inside:
+        return q, 0
+    g = g0 - d
+    closed = 0
+    if flag == 2:
+        if g > reach:
+            return q, 0
+        closed = 1
+    s1, s2 = _upper_slopes(surf, k, t)
+    _pack(scratch, q, surf, i, g, s1, s2)
+    scratch.cl_keep[q] = True
+    return q + 1, closed
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _filter_closed(
     n_cl: int, kappa_max: float, half_dx: float, min_delta: float, scratch: Scratch
@@ -208,30 +250,8 @@ def _filter_closed(
     keep = scratch.cl_keep
     lim = 2.0 * half_dx * (1.0 + 1e-6)
     for q in range(n_cl):
-        g = g_a[q]
-        s1 = s1_a[q]
-        k_l = kl_a[q]
-        n_x = nx_a[q]
-        n_z = nz_a[q]
-        norm_u = math.sqrt(1.0 + s1 * s1)
-        k_u = min(max(-s2_a[q] / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
-        m_x = s1 / norm_u
-        m_z = 1.0 / norm_u
-        k_sum = k_l + k_u
-        k_prod = k_u * k_l
-        y_x = k_l * m_x + k_u * n_x
-        y_z = k_prod * g + k_l * m_z + k_u * n_z
-        y_norm = math.sqrt(y_x * y_x + y_z * y_z)
-        dmx = m_x - n_x
-        dmz = m_z - n_z
-        num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
-        delta = num / (y_norm + k_sum)
-        off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
-        keep[q] = (
-            (k_sum > 0.0)
-            & (y_norm > 0.0)
-            & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
-            & (abs(off) <= lim * y_norm)
+        keep[q] = _may_touch(
+            g_a[q], s1_a[q], s2_a[q], kl_a[q], nx_a[q], nz_a[q], kappa_max, lim, min_delta
         )
 
 
@@ -352,7 +372,6 @@ def path_step(
     appears at zero overlap), and for cells that eq. 9 accepts anyway it is bit-identical to the
     free evaluation.
     """
-    f_l = surf.f_l
     placement = surf.placement
     reach = material.reach
     threshold = placement - d - reach
@@ -371,10 +390,10 @@ def path_step(
                 continue
             i = cand[j]
             # The height first: the slope and curvature only where the gap has closed.
-            inside, h_u, k, t = _upper_height(surf, i, shift)
+            inside, g0, k, t = _rigid_gap(surf, i, shift)
             if not inside:
                 continue
-            g = (placement - (h_u + f_l[i])) - d
+            g = g0 - d
             if g > reach and not (use_fixed and fixed[i]):
                 continue
             s1, s2 = _upper_slopes(surf, k, t)
@@ -416,19 +435,10 @@ def path_step(
                 continue
             if flag == 2 and bound[j] < threshold:
                 continue
-            i = cand[j]
-            inside, h_u, k, t = _upper_height(surf, i, shift)
-            if not inside:
-                continue
-            g = (placement - (h_u + f_l[i])) - d
-            if flag == 2:
-                if g > reach:
-                    continue
-                n_closed += 1
-            s1, s2 = _upper_slopes(surf, k, t)
-            _pack(scratch, n_packed, surf, i, g, s1, s2)
-            scratch.cl_keep[n_packed] = True
-            n_packed += 1
+            n_packed, closed = _pack_flagged(
+                scratch, n_packed, surf, cand[j], shift, d, reach, flag
+            )
+            n_closed += closed
 
     return _settle(
         u, d, du, dd, commit, surf, material, migrate_cells, springs, scratch, fixed, use_fixed,
@@ -616,9 +626,9 @@ def _fixed_shift_values(
     out = np.empty((m, 6))
     for j in range(m):
         i = cand[j]
-        inside, h_u, k, t = _upper_height(surf, i, shift)
+        inside, g0, k, t = _rigid_gap(surf, i, shift)
         s1, s2 = _upper_slopes(surf, k, t) if inside else (0.0, 0.0)
-        out[j, 0] = surf.placement - (h_u + surf.f_l[i]) if inside else np.inf
+        out[j, 0] = g0 if inside else np.inf
         out[j, 1] = s1
         out[j, 2] = s2
         out[j, 3] = surf.kappa_l[i]
