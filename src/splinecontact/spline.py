@@ -268,6 +268,27 @@ def _reinsch_uniform(
         second[j] = second[j] / dx2
 
 
+def grid_smoothing(dx: float, alpha: float, x0: float) -> tuple[float, float]:
+    """Smoothing weight λ [µm³] of eqs. 2–3 and λ/dx³ [1] for grid spacing ``dx`` [µm].
+
+    ``alpha`` [1] and ``x0`` [µm] as in :func:`smoothing_parameter`.
+
+    Raises
+    ------
+    ParameterError
+        If λ/dx³ is so large that the spline would be a straight line.
+    """
+    lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
+    lam_grid = lam / dx**3
+    if not lam_grid <= _MAX_GRID_LAMBDA:
+        raise ParameterError(
+            f"the smoothing weight in grid units λ/dx³ = {lam_grid:.3g} (λ = {lam:.3g} µm³, "
+            f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
+            "line; use x0 of the order of 1 µm and alpha near 2"
+        )
+    return lam, lam_grid
+
+
 def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> SplineFit:
     """Fit the smoothing cubic spline of eqs. 2–3 to a profile.
 
@@ -313,14 +334,7 @@ def fit_spline(profile: Profile, *, alpha: float = 2.0, x0: float = 1.0) -> Spli
             "Profile(x, z) (positions and heights in µm)"
         )
     dx = profile.dx
-    lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
-    lam_grid = lam / dx**3
-    if not lam_grid <= _MAX_GRID_LAMBDA:
-        raise ParameterError(
-            f"the smoothing weight in grid units λ/dx³ = {lam_grid:.3g} (λ = {lam:.3g} µm³, "
-            f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
-            "line; use x0 of the order of 1 µm and alpha near 2"
-        )
+    lam, lam_grid = grid_smoothing(dx, alpha, x0)
     # outputs allocated outside numpy's huge-page advice (see splinecontact._memory)
     f, slope, second = (empty(profile.z.size) for _ in range(3))
     _reinsch_uniform(profile.z, lam_grid, dx, dx**2, f, slope, second)

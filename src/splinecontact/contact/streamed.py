@@ -59,7 +59,7 @@ from ..generate import (
 )
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
-from ..spline import _MAX_GRID_LAMBDA, smoothing_parameter
+from ..spline import grid_smoothing
 from ._chunks import _final_gaps, _rounded, _stream, margin_points
 from .geometry import ContactGeometry, check_positive, displacement_steps, order_candidates
 from .kernel import run_loading
@@ -187,14 +187,7 @@ def _run(
     """Placement, candidates and the loading loop of a streamed realization (units as in
     :func:`simulate_streamed`); returns curves, recorded contacts, statistics and dx [µm]."""
     dx = length / (n - 1)
-    lam = smoothing_parameter(dx, alpha=alpha, x0=x0)
-    lam_grid = lam / dx**3
-    if not lam_grid <= _MAX_GRID_LAMBDA:
-        raise ParameterError(
-            f"the smoothing weight in grid units λ/dx³ = {lam_grid:.3g} (λ = {lam:.3g} µm³, "
-            f"dx = {dx!r} µm) is above {_MAX_GRID_LAMBDA:g}: the spline would be a straight "
-            "line; use x0 of the order of 1 µm and alpha near 2"
-        )
+    _, lam_grid = grid_smoothing(dx, alpha, x0)
     displacement = displacement_steps(
         final_displacement, final_displacement_factor, peak_to_valley, steps
     )
