@@ -6,16 +6,14 @@ geometry, the migration of the tangential springs (which previous contact each a
 continues) and eqs. 11–13. With ``commit`` the new spring state replaces the old one; without it
 the call is a trial (used by the force-controlled segments to solve for δ_N).
 
-The upper body's smoothed height at lower grid point i and shift u is the natural cubic spline
-evaluated at the fractional grid index ξ = i − u/dx, written from the spline's knot values f and
-second differences γ = f″·dx² (a natural cubic spline is fully determined by them):
+The upper body's smoothed height at lower grid point i and shift u is its natural cubic spline
+at ξ = i − u/dx, from the knot values f and second differences γ = f″·dx² (which determine it):
 
     S(ξ)  = (1−t) f_k + t f_{k+1} + [γ_k((1−t)³ − (1−t)) + γ_{k+1}(t³ − t)] / 6,
     S′(ξ) = f_{k+1} − f_k + [γ_{k+1}(3t² − 1) − γ_k(3(1−t)² − 1)] / 6,
     S″(ξ) = (1−t) γ_k + t γ_{k+1},
 
-with k = ⌊ξ⌋, t = ξ − k (per grid unit; divided by dx and dx² for physical slopes). At t = 0
-these are exactly the fitted f, f′ and f″ at the knots.
+with k = ⌊ξ⌋, t = ξ − k (per grid unit; ÷ dx, dx² for physical slopes); at t = 0 the fit's values.
 """
 
 from __future__ import annotations
