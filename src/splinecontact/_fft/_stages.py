@@ -2,7 +2,8 @@
 
 Radix 2, 3, 4 and 5 (decimation in frequency, self-sorting), each an unrolled butterfly whose
 innermost loop runs over the contiguous batch index, so that every butterfly is a vector
-operation; :func:`_batched_fft` chains them for lengths 2^a·3^b·5^c.
+operation; :func:`_batched_fft` chains them for lengths 2^a·3^b·5^c. The stages share the
+views of their legs (:func:`_legs`) and the twiddle product (:func:`rotate`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,33 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["_batched_fft"]
+__all__ = ["_batched_fft", "rotate"]
+
+_Views = tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+    NDArray[np.float64],
+]  # fmt: skip
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
+def rotate(re: float, im: float, c: float, d: float) -> tuple[float, float]:  # pragma: no cover
+    """(re + i·im)·(c + i·d): a value times a twiddle factor, as two reals."""
+    return re * c - im * d, re * d + im * c
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
+def _legs(
+    x: NDArray[np.float64], start: int, step: int, batch: int
+) -> _Views:  # pragma: no cover - compiled
+    """The ``batch`` contiguous values at start + k·step for k = 0 … 4 (the legs of a
+    butterfly; a stage of radix r < 5 leaves the last 5 − r unused, slices clamp at the end)."""
+    return (
+        x[start : start + batch],
+        x[start + step : start + step + batch],
+        x[start + 2 * step : start + 2 * step + batch],
+        x[start + 3 * step : start + 3 * step + batch],
+        x[start + 4 * step : start + 4 * step + batch],
+    )
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -35,24 +62,15 @@ def _stage(
         d = wi[p * s]
         for q in range(s):
             i0 = (q + s * p) * stride
-            i1 = (q + s * (p + m)) * stride
             o0 = (q + s * 2 * p) * stride
-            o1 = o0 + s * stride
-            ar = xr[i0 : i0 + batch]
-            ai = xi[i0 : i0 + batch]
-            br = xr[i1 : i1 + batch]
-            bi = xi[i1 : i1 + batch]
-            sr = yr[o0 : o0 + batch]
-            si = yi[o0 : o0 + batch]
-            dr = yr[o1 : o1 + batch]
-            di = yi[o1 : o1 + batch]
+            ar, br, _, _, _ = _legs(xr, i0, s * m * stride, batch)
+            ai, bi, _, _, _ = _legs(xi, i0, s * m * stride, batch)
+            sr, dr, _, _, _ = _legs(yr, o0, s * stride, batch)
+            si, di, _, _, _ = _legs(yi, o0, s * stride, batch)
             for b in range(batch):
-                er = ar[b] - br[b]
-                ei = ai[b] - bi[b]
                 sr[b] = ar[b] + br[b]
                 si[b] = ai[b] + bi[b]
-                dr[b] = er * c - ei * d
-                di[b] = er * d + ei * c
+                dr[b], di[b] = rotate(ar[b] - br[b], ai[b] - bi[b], c, d)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -78,25 +96,11 @@ def _stage4(
         d3 = wi[3 * p * s]
         for q in range(s):
             i0 = (q + s * p) * stride
-            step_in = s * m * stride
             o0 = (q + s * 4 * p) * stride
-            step_out = s * stride
-            ar = xr[i0 : i0 + batch]
-            ai = xi[i0 : i0 + batch]
-            br = xr[i0 + step_in : i0 + step_in + batch]
-            bi = xi[i0 + step_in : i0 + step_in + batch]
-            cr = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            ci = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            dr = xr[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            di = xi[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            y0r = yr[o0 : o0 + batch]
-            y0i = yi[o0 : o0 + batch]
-            y1r = yr[o0 + step_out : o0 + step_out + batch]
-            y1i = yi[o0 + step_out : o0 + step_out + batch]
-            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y3r = yr[o0 + 3 * step_out : o0 + 3 * step_out + batch]
-            y3i = yi[o0 + 3 * step_out : o0 + 3 * step_out + batch]
+            ar, br, cr, dr, _ = _legs(xr, i0, s * m * stride, batch)
+            ai, bi, ci, di, _ = _legs(xi, i0, s * m * stride, batch)
+            y0r, y1r, y2r, y3r, _ = _legs(yr, o0, s * stride, batch)
+            y0i, y1i, y2i, y3i, _ = _legs(yi, o0, s * stride, batch)
             for b in range(batch):
                 apcr = ar[b] + cr[b]
                 apci = ai[b] + ci[b]
@@ -108,20 +112,10 @@ def _stage4(
                 bmdi = bi[b] - di[b]
                 y0r[b] = apcr + bpdr
                 y0i[b] = apci + bpdi
-                # (a − c) − i(b − d)
-                tr = amcr + bmdi
-                ti = amci - bmdr
-                y1r[b] = tr * c1 - ti * d1
-                y1i[b] = tr * d1 + ti * c1
-                tr = apcr - bpdr
-                ti = apci - bpdi
-                y2r[b] = tr * c2 - ti * d2
-                y2i[b] = tr * d2 + ti * c2
-                # (a − c) + i(b − d)
-                tr = amcr - bmdi
-                ti = amci + bmdr
-                y3r[b] = tr * c3 - ti * d3
-                y3i[b] = tr * d3 + ti * c3
+                # (a − c) ∓ i(b − d)
+                y1r[b], y1i[b] = rotate(amcr + bmdi, amci - bmdr, c1, d1)
+                y2r[b], y2i[b] = rotate(apcr - bpdr, apci - bpdi, c2, d2)
+                y3r[b], y3i[b] = rotate(amcr - bmdi, amci + bmdr, c3, d3)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -142,8 +136,6 @@ def _stage5(
     c2 = math.cos(0.8 * math.pi)
     s1 = math.sin(0.4 * math.pi)
     s2 = math.sin(0.8 * math.pi)
-    step_in = s * m * stride
-    step_out = s * stride
     for p in range(m):
         w1r = wr[p * s]
         w1i = wi[p * s]
@@ -156,26 +148,10 @@ def _stage5(
         for q in range(s):
             i0 = (q + s * p) * stride
             o0 = (q + s * 5 * p) * stride
-            x0r = xr[i0 : i0 + batch]
-            x0i = xi[i0 : i0 + batch]
-            x1r = xr[i0 + step_in : i0 + step_in + batch]
-            x1i = xi[i0 + step_in : i0 + step_in + batch]
-            x2r = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            x2i = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            x3r = xr[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            x3i = xi[i0 + 3 * step_in : i0 + 3 * step_in + batch]
-            x4r = xr[i0 + 4 * step_in : i0 + 4 * step_in + batch]
-            x4i = xi[i0 + 4 * step_in : i0 + 4 * step_in + batch]
-            y0r = yr[o0 : o0 + batch]
-            y0i = yi[o0 : o0 + batch]
-            y1r = yr[o0 + step_out : o0 + step_out + batch]
-            y1i = yi[o0 + step_out : o0 + step_out + batch]
-            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y3r = yr[o0 + 3 * step_out : o0 + 3 * step_out + batch]
-            y3i = yi[o0 + 3 * step_out : o0 + 3 * step_out + batch]
-            y4r = yr[o0 + 4 * step_out : o0 + 4 * step_out + batch]
-            y4i = yi[o0 + 4 * step_out : o0 + 4 * step_out + batch]
+            x0r, x1r, x2r, x3r, x4r = _legs(xr, i0, s * m * stride, batch)
+            x0i, x1i, x2i, x3i, x4i = _legs(xi, i0, s * m * stride, batch)
+            y0r, y1r, y2r, y3r, y4r = _legs(yr, o0, s * stride, batch)
+            y0i, y1i, y2i, y3i, y4i = _legs(yi, o0, s * stride, batch)
             for b in range(batch):
                 # t1 = x1 + x4, t2 = x2 + x3, t3 = x1 − x4, t4 = x2 − x3
                 t1r = x1r[b] + x4r[b]
@@ -197,22 +173,10 @@ def _stage5(
                 b1i = s1 * t3i + s2 * t4i
                 b2r = s2 * t3r - s1 * t4r
                 b2i = s2 * t3i - s1 * t4i
-                tr = a1r + b1i
-                ti = a1i - b1r
-                y1r[b] = tr * w1r - ti * w1i
-                y1i[b] = tr * w1i + ti * w1r
-                tr = a2r + b2i
-                ti = a2i - b2r
-                y2r[b] = tr * w2r - ti * w2i
-                y2i[b] = tr * w2i + ti * w2r
-                tr = a2r - b2i
-                ti = a2i + b2r
-                y3r[b] = tr * w3r - ti * w3i
-                y3i[b] = tr * w3i + ti * w3r
-                tr = a1r - b1i
-                ti = a1i + b1r
-                y4r[b] = tr * w4r - ti * w4i
-                y4i[b] = tr * w4i + ti * w4r
+                y1r[b], y1i[b] = rotate(a1r + b1i, a1i - b1r, w1r, w1i)
+                y2r[b], y2i[b] = rotate(a2r + b2i, a2i - b2r, w2r, w2i)
+                y3r[b], y3i[b] = rotate(a2r - b2i, a2i + b2r, w3r, w3i)
+                y4r[b], y4i[b] = rotate(a1r - b1i, a1i + b1r, w4r, w4i)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
@@ -237,21 +201,11 @@ def _stage3(
         d2 = wi[2 * p * s]
         for q in range(s):
             i0 = (q + s * p) * stride
-            step_in = s * m * stride
             o0 = (q + s * 3 * p) * stride
-            step_out = s * stride
-            ar = xr[i0 : i0 + batch]
-            ai = xi[i0 : i0 + batch]
-            br = xr[i0 + step_in : i0 + step_in + batch]
-            bi = xi[i0 + step_in : i0 + step_in + batch]
-            cr = xr[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            ci = xi[i0 + 2 * step_in : i0 + 2 * step_in + batch]
-            y0r = yr[o0 : o0 + batch]
-            y0i = yi[o0 : o0 + batch]
-            y1r = yr[o0 + step_out : o0 + step_out + batch]
-            y1i = yi[o0 + step_out : o0 + step_out + batch]
-            y2r = yr[o0 + 2 * step_out : o0 + 2 * step_out + batch]
-            y2i = yi[o0 + 2 * step_out : o0 + 2 * step_out + batch]
+            ar, br, cr, _, _ = _legs(xr, i0, s * m * stride, batch)
+            ai, bi, ci, _, _ = _legs(xi, i0, s * m * stride, batch)
+            y0r, y1r, y2r, _, _ = _legs(yr, o0, s * stride, batch)
+            y0i, y1i, y2i, _, _ = _legs(yi, o0, s * stride, batch)
             for b in range(batch):
                 sr = br[b] + cr[b]
                 si = bi[b] + ci[b]
@@ -262,14 +216,8 @@ def _stage3(
                 ei = h * (br[b] - cr[b])
                 y0r[b] = ar[b] + sr
                 y0i[b] = ai[b] + si
-                tr = mr + er
-                ti = mi - ei
-                y1r[b] = tr * c1 - ti * d1
-                y1i[b] = tr * d1 + ti * c1
-                tr = mr - er
-                ti = mi + ei
-                y2r[b] = tr * c2 - ti * d2
-                y2i[b] = tr * d2 + ti * c2
+                y1r[b], y1i[b] = rotate(mr + er, mi - ei, c1, d1)
+                y2r[b], y2i[b] = rotate(mr - er, mi + ei, c2, d2)
 
 
 @numba.njit(cache=True, nogil=True, fastmath=True)
