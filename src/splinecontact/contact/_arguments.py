@@ -9,11 +9,21 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
+import numpy as np
+from numpy.typing import NDArray
+
 from .._checks import check_integer
+from ..errors import ParameterError
 from .geometry import check_positive
 from .laws import ContactLaw, Hertz, check_law
 
-__all__ = ["MAX_STEPS", "ModelArguments", "check_model_arguments", "run_parameters"]
+__all__ = [
+    "MAX_STEPS",
+    "ModelArguments",
+    "check_model_arguments",
+    "check_reserved",
+    "run_parameters",
+]
 
 #: Default ceiling on ``steps`` [1] (10⁶; the paper uses 1000). Raise it with ``max_steps=``.
 MAX_STEPS = 1_000_000
@@ -70,6 +80,29 @@ def check_model_arguments(
     check_positive("alpha", alpha, "")
     check_positive("x0", x0, " µm")
     return ModelArguments(steps, e_star, g_star, mu0, Hertz() if law is None else check_law(law))
+
+
+def check_reserved(
+    first_step_index: NDArray[np.int64], record_steps: NDArray[np.int64], maximum: int
+) -> None:
+    """Refuse ``record_steps`` that would reserve more than ``maximum`` contact slots [1].
+
+    A step reserves a slot for every candidate whose gap has closed by then
+    (``first_step_index`` counts them per step, :class:`~.geometry.ContactGeometry`).
+
+    Raises
+    ------
+    ParameterError
+        More than ``maximum`` slots.
+    """
+    if record_steps.size:
+        reserved = int(first_step_index[record_steps].sum())
+        if reserved > maximum:
+            raise ParameterError(
+                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
+                f"closed, summed over {record_steps.size} recorded steps), above "
+                f"{maximum}; record fewer steps"
+            )
 
 
 def run_parameters(

@@ -13,7 +13,7 @@ from ..errors import ParameterError
 from ..profile import Profile, surface_statistics
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
-from ._arguments import MAX_STEPS, check_model_arguments, run_parameters
+from ._arguments import MAX_STEPS, check_model_arguments, check_reserved, run_parameters
 from .geometry import check_bodies, contact_geometry
 from .interaction import InteractionSettings
 from .kernel import run_loading
@@ -246,14 +246,7 @@ def simulate(
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
         fits=(fit_l, fit_u), reach=law.reach,
     )  # fmt: skip
-    if record_steps.size:
-        reserved = int(geometry.first_step_index[record_steps].sum())
-        if reserved > MAX_RECORDED_CONTACTS:
-            raise ParameterError(
-                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
-                f"closed, summed over {record_steps.size} recorded steps), above "
-                f"{MAX_RECORDED_CONTACTS}; record fewer steps"
-            )
+    check_reserved(geometry.first_step_index, record_steps, MAX_RECORDED_CONTACTS)
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )

@@ -60,7 +60,7 @@ from ..generate import (
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import grid_smoothing
-from ._arguments import check_model_arguments, run_parameters
+from ._arguments import check_model_arguments, check_reserved, run_parameters
 from ._chunks import _final_gaps, _rounded, _stream, margin_points
 from .geometry import ContactGeometry, displacement_steps, order_candidates
 from .kernel import run_loading
@@ -206,14 +206,7 @@ def _run(
         slope_upper=None if flat else at["slope_u"], second_upper=None if flat else at["second_u"],
         dx=dx,
     )  # fmt: skip
-    if record_steps.size:
-        reserved = int(geometry.first_step_index[record_steps].sum())
-        if reserved > max_recorded:
-            raise ParameterError(
-                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
-                f"closed, summed over {record_steps.size} recorded steps), above "
-                f"{max_recorded}; record fewer steps"
-            )
+    check_reserved(geometry.first_step_index, record_steps, max_recorded)
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )
