@@ -107,6 +107,10 @@ def test_unreadable_laws_study_file(tmp_path: Path) -> None:
     bad.write_text("[laws_study\n", encoding="utf-8")
     with pytest.raises(StudyConfigError, match="not valid TOML"):
         load_laws_study(bad)
+    deep = tmp_path / "deep.toml"
+    deep.write_text("dimensions = " + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    with pytest.raises(StudyConfigError, match="nested too deeply"):
+        load_laws_study(deep)
 
 
 def _cli(*args: str) -> subprocess.CompletedProcess[str]:

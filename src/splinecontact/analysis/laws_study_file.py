@@ -242,6 +242,10 @@ def load_laws_study(path: str | Path) -> LawsStudySpec:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise StudyConfigError(f"{file} is not valid TOML: {error}") from None
+    except RecursionError:
+        raise StudyConfigError(
+            f"{file} is not a laws-study file (arrays or tables nested too deeply)"
+        ) from None
     return parse_laws_study(data)
 
 
