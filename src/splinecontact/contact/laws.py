@@ -267,6 +267,14 @@ _FUSED = 1  # law_step: evaluate and commit at once
 _COMMIT = 2  # commit_law: update the history (reusing the trial's memo where there is one)
 
 
+def _evaluate_hertz(
+    code: int, params: tuple[float], delta: float, r_eff: float, state: Any, point: int, mode: int
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    if mode == _COMMIT:
+        return 0.0, 0.0  # no history
+    return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+
+
 def _evaluate(
     code: int,
     params: Any,
@@ -275,33 +283,8 @@ def _evaluate(
     state: NDArray[np.float64],
     point: int,
     mode: int,
-) -> tuple[float, float]:  # pragma: no cover - replaced by its compiled forms below
-    raise NotImplementedError("_evaluate is compiled (numba) only")
-
-
-def _evaluate_hertz(
-    code: int,
-    params: Any,
-    delta: float,
-    r_eff: float,
-    state: NDArray[np.float64],
-    point: int,
-    mode: int,
 ) -> tuple[float, float]:  # pragma: no cover - compiled
-    if mode == _COMMIT:
-        return 0.0, 0.0  # no history
-    return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
-
-
-def _evaluate_any(
-    code: int,
-    params: Any,
-    delta: float,
-    r_eff: float,
-    state: NDArray[np.float64],
-    point: int,
-    mode: int,
-) -> tuple[float, float]:  # pragma: no cover - compiled
+    # Compiled only (numba), in two forms chosen by the type of ``params`` (below).
     if code == HERTZ or code == _DMT:
         if mode == _COMMIT:
             return 0.0, 0.0  # no history
@@ -335,24 +318,16 @@ def _evaluate_any(
     return out[0], out[1]
 
 
-@overload(_evaluate, jit_options={"nogil": True})
-def _evaluate_typed(
-    code: int,
-    params: Any,
-    delta: float,
-    r_eff: float,
-    state: NDArray[np.float64],
-    point: int,
-    mode: int,
-) -> Any:
-    # The same signature as the stub and the two forms (numba checks it). Chosen when a kernel is typed: Hertz's 1-tuple of parameters compiles Hertz alone.
-    return _evaluate_hertz if isinstance(params, types.BaseTuple) else _evaluate_any
+@overload(_evaluate, jit_options={"nogil": True}, strict=False)
+def _evaluate_typed(code: Any, params: Any, *rest: Any) -> Any:
+    # Chosen when a kernel is typed: Hertz's 1-tuple of parameters compiles Hertz alone.
+    return _evaluate_hertz if isinstance(params, types.BaseTuple) else _evaluate
 
 
 @numba.njit(cache=True, nogil=True)
 def normal_law(
     code: int,
-    params: NDArray[np.float64],
+    params: NDArray[np.float64] | tuple[float],
     delta: float,
     r_eff: float,
     state: NDArray[np.float64],
@@ -381,7 +356,7 @@ def normal_law(
 @numba.njit(cache=True, nogil=True)
 def law_step(
     code: int,
-    params: NDArray[np.float64],
+    params: NDArray[np.float64] | tuple[float],
     delta: float,
     r_eff: float,
     state: NDArray[np.float64],
@@ -394,7 +369,7 @@ def law_step(
 @numba.njit(cache=True, nogil=True)
 def commit_law(
     code: int,
-    params: NDArray[np.float64],
+    params: NDArray[np.float64] | tuple[float],
     delta: float,
     r_eff: float,
     state: NDArray[np.float64],
