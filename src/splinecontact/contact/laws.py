@@ -223,9 +223,10 @@ class Material(NamedTuple):
     law_code : int
         :attr:`ContactLaw.code`.
     law_params : ndarray or tuple
-        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``; for Hertz the
-        1-tuple ``(E*,)``, a type of its own, so that a kernel running Hertz compiles Hertz
-        alone (the other laws' code is typed, hence compiled, only for an array).
+        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``, or for Hertz
+        the 1-tuple ``(E*,)`` (``hertz_alone`` of :func:`kernel_material`), a type of its own,
+        so that a kernel running Hertz compiles Hertz alone (the other laws' code is typed,
+        hence compiled, only for an array).
     law_state : ndarray
         History state, shape (n lower grid points, :attr:`ContactLaw.n_state`); persists across
         the steps of a run (and across separation).
@@ -246,14 +247,26 @@ class Material(NamedTuple):
 
 
 def kernel_material(
-    law: ContactLaw, *, e_star: float, g_star: float, mu0: float, n_points: int
+    law: ContactLaw,
+    *,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    n_points: int,
+    hertz_alone: bool = False,
 ) -> Material:
     """The kernels' view of ``law`` with E* [GPa], G* [GPa], μ0 [1], and a fresh zero state for
-    ``n_points`` lower grid points."""
+    ``n_points`` lower grid points.
+
+    With ``hertz_alone``, Hertz's parameters are the 1-tuple ``(E*,)``: a kernel typed with it
+    compiles Hertz alone (the monotone loading loop uses it: a Hertz run does not compile the
+    other laws). Without it they are an array, as for every other law, so a kernel has one
+    compiled form for all laws (the load-path kernel, whose own compilation is the larger).
+    """
     params = law.kernel_parameters(e_star)
     return Material(
         law_code=law.code,
-        law_params=(float(params[0]),) if law.code == HERTZ else params,
+        law_params=(float(params[0]),) if hertz_alone and law.code == HERTZ else params,
         law_state=new_law_state(law, n_points),
         reach=float(law.reach),
         g_star=float(g_star),
