@@ -18,10 +18,10 @@ import math
 
 import numba
 import numpy as np
-import scipy.fft as sfft
 from numba.typed import List
 from numpy.typing import NDArray
 
+from .._fft import CirculantConvolution, circulant
 from .halfplane import (
     CELLS_PER_SOURCE,
     NEAR_CELLS,
@@ -43,8 +43,10 @@ _QUARTER_PI = 0.25 * math.pi
 #: Conjugate-gradient iterations per solve (as :mod:`.halfplane`).
 _MAX_INNER = 10_000
 
-#: Entries per mesh level in the kernel cache: mesh kernel, its spectrum.
-_PER_LEVEL = 2
+#: Entries per mesh level in the kernel cache: the mesh kernel, then the arrays of the compiled
+#: circulant product on the mesh (:attr:`splinecontact._fft.CirculantConvolution.arguments`,
+#: its two integer sizes stored as one array).
+_PER_LEVEL = 17
 
 #: Smallest mesh: 2**_MIN_LEVEL cells.
 _MIN_LEVEL = 6
@@ -59,37 +61,56 @@ def mesh_cache(max_cells: int) -> List:
     return cache
 
 
+def _mesh_level(
+    cells: int, period: float, e_star: float
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The arrays of one cache level, concatenated, and their offsets (``_PER_LEVEL`` + 1)."""
+    green = mesh_kernel(cells, period, e_star)
+    # the mesh kernel is real and even, so its spectrum is real
+    product = CirculantConvolution(np.ascontiguousarray(np.fft.rfft(green).real), cells)
+    parts = [green]
+    for value in product.arguments:
+        if isinstance(value, np.ndarray):
+            parts.append(value)
+        elif len(parts) == 8:  # n1 (n2 follows): one array of both
+            parts.append(np.array([product.n1, product.n2], dtype=np.float64))
+    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([part.size for part in parts])
+    return np.concatenate(parts).astype(np.float64), offsets
+
+
 @numba.njit(cache=True)
 def _level(cache, cells: int, period: float, e_star: float) -> int:  # pragma: no cover
     """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
 
     The mesh kernel is the periodic Green function at the cell offsets minus the mean
-    smoothing h²/6 · G″ of linear spreading and reading (as :class:`.halfplane._Operator`).
+    smoothing h²/6 · G″ of linear spreading and reading (:func:`.halfplane.mesh_kernel`).
     """
     level = 0
     while (1 << level) < cells:
         level += 1
     base = level * _PER_LEVEL
     if cache[base].size == 0:
-        with numba.objmode(green="float64[::1]", spectrum="float64[::1]"):
-            green = mesh_kernel(cells, period, e_star)
-            spectrum = np.ascontiguousarray(sfft.rfft(green)).view(np.float64)
-        cache[base] = green
-        cache[base + 1] = spectrum
+        with numba.objmode(flat="float64[::1]", offsets="int64[::1]"):
+            flat, offsets = _mesh_level(cells, period, e_star)
+        for k in range(_PER_LEVEL):
+            cache[base + k] = flat[offsets[k] : offsets[k + 1]]
     return base
 
 
 @numba.njit(cache=True)
 def _convolve(
-    rho: NDArray[np.float64], spectrum: NDArray[np.float64]
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Periodic convolution of the mesh loads with the mesh kernel (its rfft ``spectrum``,
-    stored as interleaved real and imaginary parts), by scipy's real FFT."""
-    n = rho.size
-    with numba.objmode(phi="float64[::1]"):
-        phi = np.asarray(
-            sfft.irfft(spectrum.view(np.complex128) * sfft.rfft(rho), n), dtype=np.float64
-        )
+    cache, base: int, rho: NDArray[np.float64]
+) -> NDArray[np.float64]:  # pragma: no cover
+    """Periodic convolution of the mesh loads with the mesh kernel (compiled real FFT)."""
+    phi = np.empty(rho.size)
+    dims = cache[base + 8]
+    circulant(
+        rho, phi, cache[base + 1], cache[base + 2], cache[base + 3], cache[base + 4],
+        cache[base + 5], cache[base + 6], cache[base + 7], int(dims[0]), int(dims[1]),
+        cache[base + 9], cache[base + 10], cache[base + 11], cache[base + 12],
+        cache[base + 13], cache[base + 14], cache[base + 15], cache[base + 16],
+    )  # fmt: skip
     return phi
 
 
@@ -112,7 +133,7 @@ def _apply(
     """(local·P + e_z w(P) at the contacts, the mesh displacement)."""
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
-    phi = _convolve(rho, cache[base + 1])
+    phi = _convolve(cache, base, rho)
     u = _collect(phi, pos, n, h, start, src, coef, q, load, ez, local)
     return u, phi
 
