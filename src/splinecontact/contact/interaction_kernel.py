@@ -5,11 +5,10 @@ acceptance, the warm start, the outer width loop, the particle–mesh operator (
 convolution on the mesh, near-field corrections), the constrained conjugate gradients of
 Polonsky & Keer (Wear 231 (1999) 206–219) at contact level, the punch widths, the tangential
 springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without returning to Python.
-It is the same algorithm as the Python-driven :class:`.halfplane._Operator` and
-:func:`.halfplane._pk_solve` (kept as the readable reference); results agree to rounding.
 
-The mesh convolution uses a radix-2 complex FFT of the (power-of-two) mesh written here; the
-kernels of every mesh size are computed on first use and cached in a typed list.
+The mesh convolution is the package's compiled real-FFT circulant product
+(:func:`splinecontact._fft.circulant`); the mesh kernel and the transform's tables of every
+mesh size are computed on first use and cached in a typed list.
 """
 
 from __future__ import annotations
@@ -40,7 +39,7 @@ __all__ = ["mesh_cache", "run_steps"]
 
 _QUARTER_PI = 0.25 * math.pi
 
-#: Conjugate-gradient iterations per solve (as :mod:`.halfplane`).
+#: Conjugate-gradient iterations per solve.
 _MAX_INNER = 10_000
 
 #: Entries per mesh level in the kernel cache: the mesh kernel, then the arrays of the compiled
@@ -157,11 +156,13 @@ def _pk_solve(
     src: NDArray[np.int64],
     coef: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
-    """Constrained conjugate gradients at contact level (as :func:`.halfplane._pk_solve`).
+    """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
 
-    Returns (P, iterations, residual, mesh displacement of P); iterations −1 when the solve
-    did not converge. A converged P was the last load the operator was applied to, so the mesh
-    displacement of that application is the surface displacement of the step.
+    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
+    incrementally while the loaded set does not change, and recomputed before convergence is
+    declared. Returns (P, iterations, residual, mesh displacement of P); iterations −1 when
+    the solve did not converge. A converged P was the last load the operator was applied to,
+    so the mesh displacement of that application is the surface displacement of the step.
     """
     n = delta.size
     scale = delta.max()
@@ -320,7 +321,8 @@ def run_steps(
     contacts, tilted contacts, patches, CG iterations, reach exceeded. The loop ends after the
     first step whose normal force reaches ``stop_force`` [mN/µm] (> 0; 0: never). Returns
     (count of the last step's accepted contacts, step that failed to converge or −1, its
-    residual, the step at which ``stop_force`` was reached or −1).
+    residual, the step at which ``stop_force`` was reached or −1). ``curvature`` is not read
+    (the punch widths differentiate the interpolated ``slope``); it keeps the argument list.
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -439,7 +441,7 @@ def run_steps(
                 for s in range(sources):
                     src_q[s] = ez_src[s] * load[owner[s]]
                 b, c_new = _profile_widths(
-                    load, a_new, x, a, cc, slope, curvature, dx, e_star, sines, weights,
+                    load, a_new, x, a, cc, slope, dx, e_star, sines, weights,
                     start, src, pos, a_src, src_q, period,
                 )  # fmt: skip
                 a_new = np.maximum(b, floor)
