@@ -24,6 +24,11 @@ MIN_PUNCH_WIDTH = 0.5
 #: Gauss–Legendre nodes (in θ, s = b sin θ) of the punch integrals.
 PUNCH_NODES = 16
 
+#: Most Newton (or bisection) steps of a punch centre, and secant (or bisection) steps of a
+#: punch width, per contact and width update.
+_NEWTON_ITERATIONS = 30
+_SECANT_ITERATIONS = 40
+
 
 @numba.njit(cache=True, nogil=True)
 def _neighbour_slope(pos: float, near: tuple, c0: float, reach: float) -> float:  # pragma: no cover
@@ -73,14 +78,18 @@ def _punch(
     at both edges when ∫ f′(x + c + s)/√(b² − s²) ds = 0, and then carries
     P = (E*/2) ∫ s f′(x + c + s)/√(b² − s²) ds (Hertz for a parabola; the plane-strain punch
     relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with s = b sin θ and
-    Gauss–Legendre nodes in θ; c by Newton's method with the exact derivative of the linearly
-    interpolated f′ of the profile (the neighbours' part, :func:`_neighbour_slope`, is left
-    out of the derivative), P in the same pass. Returns (c, P), NaN beyond the candidates.
+    Gauss–Legendre nodes in θ; c by a safeguarded secant method (first step: Newton with the
+    exact derivative of the linearly interpolated f′ of the profile; bisection where a step
+    leaves the bracket of the root), P in the same pass. Returns (c, P), NaN beyond the
+    candidates.
     """
     c0 = 2.0 / (math.pi * e_star)
     reach = NEAR_WIDTHS * b
     total = math.nan
-    for iteration in range(20):
+    lo = -math.inf
+    hi = math.inf
+    c_old = i0_old = 0.0
+    for iteration in range(_NEWTON_ITERATIONS):
         i0 = 0.0
         i1 = 0.0
         total = 0.0
@@ -100,14 +109,28 @@ def _punch(
             i0 += weights[k] * v
             i1 += weights[k] * w
             total += weights[k] * s * v
-        if i1 <= 0.0:
+        # I0 grows with c on a summit: keep the bracket of its root; the slope of I0 is the
+        # profile's (first step) or the secant of the last two steps (it then includes the
+        # neighbours' fields); bisect where a step leaves the bracket
+        if i0 > 0.0:
+            hi = c
+        else:
+            lo = c
+        slope_c = i1
+        if iteration > 0 and c != c_old and i0 != i0_old:
+            slope_c = (i0 - i0_old) / (c - c_old)
+        bracketed = not (math.isinf(lo) or math.isinf(hi))
+        if slope_c > 0.0:
+            dc = min(max(-i0 / slope_c, -0.5 * b), 0.5 * b)
+        elif bracketed:
+            dc = 0.5 * (lo + hi) - c
+        else:
             break
-        dc = -i0 / i1
-        if dc > 0.5 * b:
-            dc = 0.5 * b
-        elif dc < -0.5 * b:
-            dc = -0.5 * b
-        if abs(dc) <= 1e-9 * b or iteration == 19:
+        if bracketed and not lo < c + dc < hi:
+            dc = 0.5 * (lo + hi) - c
+        c_old = c
+        i0_old = i0
+        if abs(dc) <= 1e-9 * b or iteration == _NEWTON_ITERATIONS - 1:
             break
         c += dc
     return c, 0.5 * e_star * total
@@ -162,8 +185,10 @@ def _profile_widths(
         c = c_start[i]
         b_old = 0.0
         p_old = 0.0
+        b_lo = 0.0
+        b_hi = math.inf
         ok = False
-        for _ in range(40):
+        for _ in range(_SECANT_ITERATIONS):
             near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period)
             c, p = _punch(slope, x[i], dx, b, c, e_star, sines, weights, near)
             if math.isnan(p) or p <= 0.0:
@@ -175,9 +200,16 @@ def _profile_widths(
             if b_old > 0.0 and p_old > 0.0 and b_old != b and p_old != p:
                 m = math.log(p / p_old) / math.log(b / b_old)
                 m = min(max(m, 0.5), 4.0)
+            # P grows with b: keep the bracket of the target, bisect (in log b) outside it
+            if p > target:
+                b_hi = b
+            else:
+                b_lo = b
             b_old = b
             p_old = p
             b = b * (target / p) ** (1.0 / m)
+            if not b_lo < b < b_hi and b_lo > 0.0 and not math.isinf(b_hi):
+                b = math.sqrt(b_lo * b_hi)
         if ok:
             # a punch that reaches over another contact's summit is not this contact's
             # solution (it would bridge the valley between them)
