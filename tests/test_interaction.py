@@ -106,7 +106,7 @@ def mesh_displacement(
         pos, np.concatenate([a, a]), n, owner, period, cells, near, cache[base], C0, nodes, weights
     )
     ones = np.ones(2 * n)
-    u, _ = _apply(cache, base, load, 0.0, ones[:n], pos, owner, ones, n, h, start, src, coef)
+    u, _ = _apply(cache, base, load, 0.0, ones[:n], (pos, owner, ones, h, start, src, coef))
     return u
 
 

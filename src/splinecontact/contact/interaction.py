@@ -153,22 +153,18 @@ def _accept(
     cell: float,
     point_x: NDArray[np.float64],
     n_active: int,
-    gap0: NDArray[np.float64],
-    kl: NDArray[np.float64],
-    ku: NDArray[np.float64],
-    mx: NDArray[np.float64],
-    mz: NDArray[np.float64],
-    nx: NDArray[np.float64],
-    nz: NDArray[np.float64],
+    columns: tuple,
     dx: float,
-    out_index: NDArray[np.int64],
-    out_delta: NDArray[np.float64],
-    out_ex: NDArray[np.float64],
-    out_ez: NDArray[np.float64],
-    out_reff: NDArray[np.float64],
-    out_offset: NDArray[np.float64],
-    out_offset_z: NDArray[np.float64],
+    out: tuple,
 ) -> int:  # pragma: no cover - compiled
+    """SAD's acceptance (Table 1, eqs. 7–10, eq. 9) of the first ``n_active`` candidates at
+    displacement ``d`` [µm], down to the overlap ``delta_min`` [µm] where the surface has risen
+    (the mesh displacement ``uplift`` [µm] of the previous step, cells of ``cell`` [µm]).
+    ``columns`` = (gap0, κ^l, κ^u, m_x, m_z, n_x, n_z) of the candidates; the accepted ones go
+    to ``out`` = (index, δ, e_x, e_z, R_eff, offset, centre height); returns their number.
+    """
+    gap0, kl, ku, mx, mz, nx, nz = columns
+    out_index, out_delta, out_ex, out_ez, out_reff, out_offset, out_offset_z = out
     half_dx = 0.5 * dx
     count = 0
     for j in range(n_active):

@@ -115,25 +115,18 @@ def _convolve(
 
 @numba.njit(cache=True)
 def _apply(
-    cache,
-    base: int,
-    load: NDArray[np.float64],
-    local: float,
-    ez: NDArray[np.float64],
-    pos: NDArray[np.float64],
-    owner: NDArray[np.int64],
-    ez_src: NDArray[np.float64],
-    n: int,
-    h: float,
-    start: NDArray[np.int64],
-    src: NDArray[np.int64],
-    coef: NDArray[np.float64],
+    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """(local·P + e_z w(P) at the contacts, the mesh displacement)."""
+    """(local·P + e_z w(P) at the contacts, the mesh displacement).
+
+    ``op`` = (source positions [µm], their contacts, their e_z, mesh spacing [µm], near-pair
+    CSR start, sources and corrections) of the step.
+    """
+    pos, owner, ez_src, h, start, src, coef = op
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
     phi = _convolve(cache, base, rho)
-    u = _collect(phi, pos, n, h, start, src, coef, q, load, ez, local)
+    u = _collect(phi, pos, load.size, h, start, src, coef, q, load, ez, local)
     return u, phi
 
 
@@ -148,21 +141,16 @@ def _pk_solve(
     a: NDArray[np.float64],
     period: float,
     c: float,
-    pos: NDArray[np.float64],
-    owner: NDArray[np.int64],
-    ez_src: NDArray[np.float64],
-    h_mesh: float,
-    start: NDArray[np.int64],
-    src: NDArray[np.int64],
-    coef: NDArray[np.float64],
+    op: tuple,
 ) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
     """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
 
     Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
     incrementally while the loaded set does not change, and recomputed before convergence is
-    declared. Returns (P, iterations, residual, mesh displacement of P); iterations −1 when
-    the solve did not converge. A converged P was the last load the operator was applied to,
-    so the mesh displacement of that application is the surface displacement of the step.
+    declared (``op`` as :func:`_apply`). Returns (P, iterations, residual, mesh displacement
+    of P); iterations −1 when the solve did not converge. A converged P was the last load the
+    operator was applied to, so the mesh displacement of that application is the surface
+    displacement of the step.
     """
     n = delta.size
     scale = delta.max()
@@ -179,7 +167,7 @@ def _pk_solve(
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, phi = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+    cp, phi = _apply(cache, base, p, local, ez, op)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -189,32 +177,24 @@ def _pk_solve(
         if residual <= tol:
             if exact:
                 return p, iteration, residual, phi
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
             exact = True
             continue
         if not any_loaded:
             d = np.maximum(-h, 0.0)
-            cd, _ = _apply(
-                cache, base, d, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cd, _ = _apply(cache, base, d, local, ez, op)
             curvature = np.dot(d, cd)
             step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
             exact = True
             continue
         g_norm_old = g_norm
-        r, _ = _apply(cache, base, t, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+        r, _ = _apply(cache, base, t, local, ez, op)
         conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
         if not linear:
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
         exact = not linear
     return p, -1, residual, phi
 
@@ -339,8 +319,8 @@ def run_steps(
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
         count = _accept(
-            d, -margin, field[:field_n], field_cell, point_x, n_active, gap0, kl, ku, mx, mz,
-            nx, nz, dx, idx, delta, ex, ez, reff, offset, offset_z,
+            d, -margin, field[:field_n], field_cell, point_x, n_active,
+            (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
         )  # fmt: skip
         j = idx[:count].copy()
         previous = np.empty(count)
@@ -427,10 +407,10 @@ def run_steps(
             start, src, coef = _near_pairs(
                 pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
             )
+            op = (pos, owner, ez_src, h_mesh, start, src, coef)
             load, iterations, residual, phi = _pk_solve(
-                cache, base, dl, load, tol, e_z, a, period, c0, pos, owner, ez_src, h_mesh,
-                start, src, coef,
-            )  # fmt: skip
+                cache, base, dl, load, tol, e_z, a, period, c0, op
+            )
             if iterations < 0:
                 return count, step, residual, -1
             total += iterations
