@@ -71,7 +71,7 @@ from .halfplane import (
     periodic_green,
     self_coefficient,
 )
-from .punch import punch_quadrature
+from .punch import _punch_quadrature
 
 __all__ = [
     "DEFAULT_INTERACTION_TOLERANCE",
@@ -370,7 +370,7 @@ def interacting_loading(
     height_lower = np.asarray(geometry.height_lower)[order]
     point_x = points.astype(np.float64) * dx
     reach = float(gap0[-1]) if gap0.size else 0.0
-    sines, punch_weights = punch_quadrature()
+    sines, punch_weights = _punch_quadrature()
     nodes, node_weights = _quadrature()
     largest_mesh = max(max_cells, cells or 0)
     cache = mesh_cache(largest_mesh)

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from .halfplane import NEAR_WIDTHS
 
-__all__ = ["MIN_PUNCH_WIDTH", "PUNCH_NODES", "punch_quadrature"]
+__all__ = ["MIN_PUNCH_WIDTH", "PUNCH_NODES"]
 
 #: Contacts with a Hertz half-width below this many grid spacings keep the Hertz width [1].
 MIN_PUNCH_WIDTH = 0.5
@@ -225,7 +225,7 @@ def _profile_widths(
     return out_b, out_c
 
 
-def punch_quadrature() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _punch_quadrature() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Nodes sin θ_k and weights of ∫ f(b sin θ) dθ over [−π/2, π/2] (Gauss–Legendre in θ)."""
     nodes, weights = np.polynomial.legendre.leggauss(PUNCH_NODES)
     return np.sin(0.5 * np.pi * nodes), 0.5 * np.pi * weights
