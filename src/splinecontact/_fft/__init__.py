@@ -33,7 +33,7 @@ Rounding differs from pocketfft's at the level of 1e−16 relative (both are O(�
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import Any
 
 import numba
 import numpy as np
@@ -96,24 +96,6 @@ def _split(big: int) -> int:
     return max(d for d in range(1, math.isqrt(big) + 1) if big % (d * d) == 0)
 
 
-class _Tables(NamedTuple):
-    """The unit-circle tables of a transform pair (real and imaginary parts).
-
-    ``w1``, ``w2``: exp(−2πik/n1) and exp(−2πik/n2), the short transforms' twiddles; ``t``: the
-    four-step twiddles exp(−2πi k1 c/N) at c·n1 + k1 (N = n1·n2); ``h``: exp(−2πik/M) for
-    k < N, which separates the even and odd spectra of the M = 2N real values.
-    """
-
-    w1r: NDArray[np.float64]
-    w1i: NDArray[np.float64]
-    w2r: NDArray[np.float64]
-    w2i: NDArray[np.float64]
-    tr: NDArray[np.float64]
-    ti: NDArray[np.float64]
-    hr: NDArray[np.float64]
-    hi: NDArray[np.float64]
-
-
 @numba.njit(cache=True, nogil=True, fastmath=True)
 def _complex_fft(
     ar: NDArray[np.float64],
@@ -122,15 +104,19 @@ def _complex_fft(
     bi: NDArray[np.float64],
     n1: int,
     n2: int,
-    tables: _Tables,
+    w1r: NDArray[np.float64],
+    w1i: NDArray[np.float64],
+    w2r: NDArray[np.float64],
+    w2i: NDArray[np.float64],
+    tr: NDArray[np.float64],
+    ti: NDArray[np.float64],
 ) -> bool:  # pragma: no cover - compiled
     """Forward FFT of N = n1·n2 complex values (four steps); returns True if the result is in b.
 
     Input in a: value j = r·n2 + c at r·(n2 + PAD) + c. Output: value k = k1 + n1·k2 at
     k2·(n1 + PAD) + k1, in a or b. Padded rows keep the strided accesses of the transpose off
-    the same cache sets.
+    the same cache sets. ``t`` holds the twiddles exp(−2πi k1 c/N) at c·n1 + k1.
     """
-    w1r, w1i, w2r, w2i, tr, ti, _, _ = tables
     s1 = n2 + _PAD
     s2 = n1 + _PAD
     if _batched_fft(ar, ai, br, bi, n1, n2, s1, w1r, w1i):
@@ -140,10 +126,10 @@ def _complex_fft(
     # d[c][k1] = s[k1][c] · t[c][k1]: contiguous writes, strided (padded) reads
     for c in range(n2):
         row = c * s2
-        at = c * n1
+        tw = c * n1
         for k1 in range(n1):
             src = k1 * s1 + c
-            dr[row + k1], di[row + k1] = rotate(sr[src], si[src], tr[at + k1], ti[at + k1])
+            dr[row + k1], di[row + k1] = rotate(sr[src], si[src], tr[tw + k1], ti[tw + k1])
     # result in d unless the second batch ends in s
     return _batched_fft(dr, di, sr, si, n2, n1, s2, w2r, w2i) == (dr is ar)
 
@@ -268,15 +254,22 @@ def _convolve(
     bi: NDArray[np.float64],
     n1: int,
     n2: int,
-    tables: _Tables,
+    w1r: NDArray[np.float64],
+    w1i: NDArray[np.float64],
+    w2r: NDArray[np.float64],
+    w2i: NDArray[np.float64],
+    tr: NDArray[np.float64],
+    ti: NDArray[np.float64],
+    hr: NDArray[np.float64],
+    hi: NDArray[np.float64],
 ) -> None:  # pragma: no cover - compiled
-    """out = irfft(λ · rfft(values)); ``scaled`` = λ/(2n) (n/2 + 1 entries)."""
+    """out = irfft(λ · rfft(values)); ``scaled`` = λ/(2n) (n/2 + 1 entries), h = exp(−2πik/n)."""
     _load(values, ar, ai, n1, n2)
     # forward: Z in a or b; conj(V) into the other one; inverse from there
-    in_b = _complex_fft(ar, ai, br, bi, n1, n2, tables)
+    in_b = _complex_fft(ar, ai, br, bi, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
     zr, zi, vr, vi = (br, bi, ar, ai) if in_b else (ar, ai, br, bi)
-    _middle(zr, zi, vr, vi, scaled, tables.hr, tables.hi, n1, n2)
-    in_z = _complex_fft(vr, vi, zr, zi, n1, n2, tables)
+    _middle(zr, zi, vr, vi, scaled, hr, hi, n1, n2)
+    in_z = _complex_fft(vr, vi, zr, zi, n1, n2, w1r, w1i, w2r, w2i, tr, ti)
     fr, fi = (zr, zi) if in_z else (vr, vi)
     _store(fr, fi, out, n1, n2)
 
@@ -357,13 +350,12 @@ class CirculantConvolution:
         self.n1 = n1
         self.n2 = n2
         self.scaled = spectrum * (0.5 / size)
+        self.w1r, self.w1i = _unit_circle(np.arange(n1), n1)
+        self.w2r, self.w2i = _unit_circle(np.arange(n2), n2)
         c = np.arange(n2)[:, None]
         k1 = np.arange(n1)[None, :]
-        w1r, w1i = _unit_circle(np.arange(n1), n1)
-        w2r, w2i = _unit_circle(np.arange(n2), n2)
-        tr, ti = (np.ascontiguousarray(a.ravel()) for a in _unit_circle(k1 * c, big))
-        hr, hi = _unit_circle(np.arange(big), size)
-        self.tables = _Tables(w1r, w1i, w2r, w2i, tr, ti, hr, hi)
+        self.tr, self.ti = (np.ascontiguousarray(a.ravel()) for a in _unit_circle(k1 * c, big))
+        self.hr, self.hi = _unit_circle(np.arange(big), size)
         work = max(n1 * (n2 + _PAD), n2 * (n1 + _PAD))
         self.ar, self.ai, self.br, self.bi = (np.empty(work) for _ in range(4))
 
@@ -372,7 +364,8 @@ class CirculantConvolution:
         """The arguments of :func:`circulant` after (values, out), for compiled callers."""
         return (
             self.padded_in, self.padded_out, self.scaled, self.ar, self.ai, self.br, self.bi,
-            self.n1, self.n2, self.tables,
+            self.n1, self.n2, self.w1r, self.w1i, self.w2r, self.w2i, self.tr, self.ti, self.hr,
+            self.hi,
         )  # fmt: skip
 
     def __call__(self, values: NDArray[np.float64], out: NDArray[np.float64]) -> None:
