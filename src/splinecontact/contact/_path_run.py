@@ -25,8 +25,10 @@ from .path_kernel import (
     Springs,
     StepSums,
     _fixed_shift_values,
-    _pack_flagged,
+    _pack,
     _settle,
+    _upper_height,
+    _upper_slopes,
     migrate_cells_of,
     path_step,
 )
@@ -57,34 +59,34 @@ def slide_step(
     conservative eq. 9 filter keeps, and only those are evaluated again, alone, packed and
     decided exactly in grid order.
     """
+    f_l = surf.f_l
+    placement = surf.placement
     reach = material.reach
     shift = u / surf.dx
     flags = scratch.cl_flag
     n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags)
-    total = 0
-    for r in range(n_runs):
-        total += run_len[r]
-    # The flags are read eight at a time (most are 0); flag position o of run r is point
-    # run_start[r] + o − (the flags of the runs before r).
-    n_words = total >> 3
-    words = flags[: n_words * 8].view(np.uint64)
     n_packed = 0
-    r = 0
-    r_first = 0  # flag position of run r's first point
-    for w in range(n_words + 1):
-        if w < n_words and words[w] == 0:
-            continue
-        for o in range(8 * w, min(8 * w + 8, total)):
-            flag = flags[o]
+    o = 0
+    for r in range(n_runs):
+        i0 = run_start[r]
+        for p in range(run_len[r]):
+            flag = flags[o + p]
             if flag == 0:
                 continue
-            while o >= r_first + run_len[r]:
-                r_first += run_len[r]
-                r += 1
-            n_packed, closed = _pack_flagged(
-                scratch, n_packed, surf, run_start[r] + o - r_first, shift, d, reach, flag
-            )
-            n_closed += closed
+            i = i0 + p
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
+                continue
+            g = (placement - (h_u + f_l[i])) - d
+            if flag == 2:
+                if g > reach:
+                    continue
+                n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+            _pack(scratch, n_packed, surf, i, g, s1, s2)
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
+        o += run_len[r]
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
         False, n_packed, n_closed,
