@@ -15,17 +15,25 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "SPHERE_BLOCK",
     "Culling",
     "Surfaces",
     "block_max",
     "candidate_blocks",
     "candidate_bounds",
+    "fill_spheres",
     "first_at_least",
     "interval_envelope",
     "run_flags",
     "sliding_flags",
+    "sphere_ready",
     "step_runs",
 ]
+
+
+#: Points per block of the lazily evaluated lower spheres (a power of two).
+SPHERE_BLOCK = 64
+_SPHERE_SHIFT = 6
 
 
 class Surfaces(NamedTuple):
@@ -43,6 +51,11 @@ class Surfaces(NamedTuple):
     placement: float  # C: zero minimum gap at δ_N = 0, u_T = 0 [µm]
     dx: float  # grid spacing [µm]
     kappa_max: float  # 1/r_min [1/µm]
+    # The lower spheres (kappa_l, nl_x, nl_z) are evaluated lazily, a block of SPHERE_BLOCK
+    # points at a time, where a point can close (:func:`fill_spheres`): not at every point.
+    slope_l: NDArray[np.float64]  # lower f′ [1]
+    curv_l: NDArray[np.float64]  # lower f″ [1/µm]
+    sphere_done: NDArray[np.uint8]  # per block of SPHERE_BLOCK points: spheres evaluated
 
 
 class Culling(NamedTuple):
@@ -386,6 +399,7 @@ def _flag_run(
     a = i0 + p_lo
     b = k0 + p_lo
     e = i0 + p_hi
+    fill_spheres(surf, a, e)
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
@@ -541,30 +555,36 @@ def run_flags(
     return n_closed
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
-def own_frame_arrays(
-    slope: NDArray[np.float64], second_derivative: NDArray[np.float64], r_min: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
-    """:func:`splinecontact.spheres.own_frame_geometry` in one compiled pass (same values).
+@numba.njit(cache=True, nogil=True)
+def fill_spheres(surf: Surfaces, i0: int, i1: int) -> None:  # pragma: no cover - compiled
+    """Evaluate the lower spheres of the blocks holding points i0 … i1 − 1, where not done.
 
-    κ = −f″/(1 + f′²)^{3/2} clamped to |κ| ≤ 1/r_min [1/µm], n = (−f′, 1)/√(1 + f′²) [1],
-    operation for operation as there.
+    :func:`splinecontact.spheres.own_frame_geometry`, operation for operation (the same
+    values): κ = −f″/(1 + f′²)^{3/2} clamped to |κ| ≤ κ_max [1/µm], n = (−f′, 1)/√(1 + f′²) [1].
     """
-    n = slope.size
-    kappa = np.empty(n)
-    n_x = np.empty(n)
-    n_z = np.empty(n)
-    lo = -1.0 / r_min
-    hi = 1.0 / r_min
-    for i in range(n):
-        s = slope[i]
-        norm = math.sqrt(1.0 + s * s)
-        k = -second_derivative[i] / (norm * norm * norm)
-        k = lo if k < lo else k
-        kappa[i] = hi if k > hi else k
-        n_x[i] = -s / norm
-        n_z[i] = 1.0 / norm
-    return kappa, n_x, n_z
+    done = surf.sphere_done
+    n = surf.f_l.size
+    hi = surf.kappa_max
+    lo = -hi
+    for b in range(i0 >> _SPHERE_SHIFT, ((i1 - 1) >> _SPHERE_SHIFT) + 1):
+        if done[b]:
+            continue
+        for i in range(b << _SPHERE_SHIFT, min(n, (b + 1) << _SPHERE_SHIFT)):
+            slope = surf.slope_l[i]
+            norm = math.sqrt(1.0 + slope * slope)
+            k = -surf.curv_l[i] / (norm * norm * norm)
+            k = lo if k < lo else k
+            surf.kappa_l[i] = hi if k > hi else k
+            surf.nl_x[i] = -slope / norm
+            surf.nl_z[i] = 1.0 / norm
+        done[b] = 1
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def sphere_ready(surf: Surfaces, i: int) -> None:  # pragma: no cover - compiled
+    """Make sure the lower sphere of point i is evaluated (:func:`fill_spheres`)."""
+    if not surf.sphere_done[i >> _SPHERE_SHIFT]:
+        fill_spheres(surf, i, i + 1)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

@@ -34,6 +34,7 @@ from ._culling import (
     first_at_least,
     interval_envelope,
     sliding_flags,
+    sphere_ready,
 )
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, tangential_spring
@@ -178,6 +179,7 @@ def _pack(
     scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
 ) -> None:  # pragma: no cover - compiled
     """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q."""
+    sphere_ready(surf, i)
     scratch.cl_i[q] = i
     scratch.cl_g[q] = g
     scratch.cl_s1[q] = s1
@@ -684,6 +686,7 @@ def _fixed_shift_values(
         out[j, 0] = g0 if inside else np.inf
         out[j, 1] = s1
         out[j, 2] = s2
+        sphere_ready(surf, i)
         out[j, 3] = surf.kappa_l[i]
         out[j, 4] = surf.nl_x[i]
         out[j, 5] = surf.nl_z[i]
