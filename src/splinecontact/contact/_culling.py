@@ -293,12 +293,14 @@ def _may_touch(
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _run_flags(
-    surf: Surfaces,
     i0: int,
     k0: int,
     shift: float,
     d: float,
     reach: float,
+    placement: float,
+    kappa_max: float,
+    dx: float,
     f_l: NDArray[np.float64],
     kappa_l: NDArray[np.float64],
     nl_x: NDArray[np.float64],
@@ -312,12 +314,11 @@ def _run_flags(
     The arrays are views starting at point i0 (lower), knot k0 (upper) and the run's first
     flag; contiguous, so that the loop runs on vector units. A point whose knot interval
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
-    (evaluated again alone).
+    (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
+    itself: passing it to a function called per run costs more than the run's arithmetic).
     """
-    placement = surf.placement
-    kappa_max = surf.kappa_max
-    inv_dx = 1.0 / surf.dx
-    lim = surf.dx * (1.0 + 1e-6)
+    inv_dx = 1.0 / dx
+    lim = dx * (1.0 + 1e-6)
     min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
@@ -345,9 +346,11 @@ def _run_flags(
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _knot_flags(
-    surf: Surfaces,
     d: float,
     reach: float,
+    placement: float,
+    kappa_max: float,
+    dx: float,
     f_l: NDArray[np.float64],
     kappa_l: NDArray[np.float64],
     nl_x: NDArray[np.float64],
@@ -358,9 +361,7 @@ def _knot_flags(
     flags: NDArray[np.uint8],
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
-    placement = surf.placement
-    kappa_max = surf.kappa_max
-    lim = surf.dx * (1.0 + 1e-6)
+    lim = dx * (1.0 + 1e-6)
     min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
@@ -375,7 +376,7 @@ def _knot_flags(
     return n_closed
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def _flag_run(
     surf: Surfaces,
     i0: int,
@@ -399,16 +400,19 @@ def _flag_run(
     a = i0 + p_lo
     b = k0 + p_lo
     e = i0 + p_hi
-    fill_spheres(surf, a, e)
+    for blk in range(a >> _SPHERE_SHIFT, ((e - 1) >> _SPHERE_SHIFT) + 1):
+        if not surf.sphere_done[blk]:  # (a call costs more than the test)
+            fill_spheres(surf, a, e)
+            break
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
-            surf, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e],
+            d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e],
             surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a], surf.curv_u[b : b + e - a],
             flags[p_lo:p_hi],
         )  # fmt: skip
     return _run_flags(
-        surf, a, b, shift, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e],
+        a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e],
         surf.nl_z[a:e], surf.f_u[b : b + e - a + 1], surf.gamma_u[b : b + e - a + 1],
         flags[p_lo:p_hi],
     )  # fmt: skip

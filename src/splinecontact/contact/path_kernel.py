@@ -178,8 +178,11 @@ def _upper_sphere(
 def _pack(
     scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
 ) -> None:  # pragma: no cover - compiled
-    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q."""
-    sphere_ready(surf, i)
+    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q.
+
+    Its lower sphere must have been evaluated (:func:`._culling.sphere_ready`): not tested
+    here, where a call, even one not taken, would slow the sliding step's packing threefold.
+    """
     scratch.cl_i[q] = i
     scratch.cl_g[q] = g
     scratch.cl_s1[q] = s1
@@ -452,6 +455,7 @@ def path_step(
             if g > reach and not (use_fixed and fixed[i]):
                 continue
             s1, s2 = _upper_slopes(surf, k, t)
+            sphere_ready(surf, i)
             _pack(scratch, n_closed, surf, i, g, s1, s2)
             n_closed += 1
         n_packed = n_closed
