@@ -613,9 +613,11 @@ def _settle(
             order[:n_c] = np.argsort(idx, kind="mergesort")
         # A contact of the previous step that is not accepted now has let go (laws with a
         # branch state: JKR, Maugis–Dugdale); its plastic history stays.
+        # A law without history state (Hertz, DMT) has nothing to release or commit.
+        history = law_state.shape[1] > 0
         n_old = springs.n_committed[0]
         r = 0
-        for p in range(n_old):
+        for p in range(n_old if history else 0):
             q = springs.cells[p]
             while r < n_c and idx[order[r]] < q:
                 r += 1
@@ -623,13 +625,15 @@ def _settle(
                 release_law(code, law_state, q)
         for r in range(n_c):
             c = order[r]
-            i = idx[c]
-            springs.cells[r] = i
+            springs.cells[r] = idx[c]
             springs.ft[r] = scratch.ft[c]
             springs.xc[r] = scratch.xc[c]
             springs.ex[r] = scratch.ex[c]
             springs.ez[r] = scratch.ez[c]
-            commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
+        if history:
+            for r in range(n_c):
+                c = order[r]
+                commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, idx[c])
         springs.n_committed[0] = n_c
     return StepSums(
         sums[0], sums[1], sums[2], n_touch, n_slip, work, sums[3], sums[4], sums[5], n_closed
