@@ -407,14 +407,14 @@ def _flag_run(
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
-            d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e],
-            surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a], surf.curv_u[b : b + e - a],
-            flags[p_lo:p_hi],
+            d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
+            surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
+            surf.curv_u[b : b + e - a], flags[p_lo:p_hi],
         )  # fmt: skip
     return _run_flags(
-        a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e],
-        surf.nl_z[a:e], surf.f_u[b : b + e - a + 1], surf.gamma_u[b : b + e - a + 1],
-        flags[p_lo:p_hi],
+        a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
+        surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
+        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi],
     )  # fmt: skip
 
 
