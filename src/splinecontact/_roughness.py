@@ -8,11 +8,13 @@ their rounding is of numpy's pairwise-summation kind, O(ε·(block + n/block)).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
+
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["deviation_sums", "difference_square_sum", "square_sum", "total"]
+__all__ = ["deviation_sums", "difference_square_sum", "mean_abs_about", "square_sum", "total"]
 
 _BLOCK = 1024
 _FLAGS = {"reassoc", "nsz"}
@@ -94,3 +96,29 @@ def square_sum(
                 block += part_a[i] * part_a[i]
         result += block
     return result
+
+
+#: Largest |r| / mean |z| for which mean |z| stands for mean |z − r| (they differ by ≤ |r|).
+_RESIDUAL_TOLERANCE = 1e-13
+
+
+def mean_abs_about(
+    mean_abs: float,
+    residual_mean: float,
+    chunks: Callable[[], Iterable[NDArray[np.float64]]],
+) -> float:
+    """mean |z − r| [µm] of heights whose mean |z| [µm] and residual mean r [µm] are known.
+
+    The generator's closed-form mean of eq. 1 leaves a residual r of rounding size, so mean |z|
+    is R_A's mean |z − r| to |r|. Where every term is much longer than the profile (nearly
+    constant heights) r is not negligible against mean |z|: then the heights, given chunk by
+    chunk by ``chunks()``, are summed again about r.
+    """
+    if abs(residual_mean) <= _RESIDUAL_TOLERANCE * mean_abs:
+        return mean_abs
+    total_abs = 0.0
+    count = 0
+    for part in chunks():
+        total_abs += float(deviation_sums(part, residual_mean)[0])
+        count += part.size
+    return total_abs / count

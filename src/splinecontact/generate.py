@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from ._checks import LENGTH_LIMIT, check_integer, check_real, check_seed
 from ._memory import empty, grid
+from ._roughness import mean_abs_about
 from .errors import ParameterError
 from .profile import MIN_STEP, Profile
 
@@ -538,18 +539,10 @@ def _metadata(params: tuple[Any, ...], seed: SeedLike, terms: _Terms) -> dict[st
 
 
 def _generate(
-    dimension: float,
-    n_points: int,
-    length: float,
-    wavelength: float,
-    gamma: float,
-    directions: int,
-    n_max: int,
-    ra: float,
-    amplitude_law: AmplitudeLaw,
-    seed: SeedLike,
+    dimension: float, n_points: int, length: float, wavelength: float, gamma: float,
+    directions: int, n_max: int, ra: float, amplitude_law: AmplitudeLaw, seed: SeedLike,
     x: NDArray[np.float64] | None = None,
-) -> Profile:
+) -> Profile:  # fmt: skip
     """Eq. 1 on validated parameters; ``x`` is a read-only grid to share (e.g. within a pair)."""
     n_points, directions, n_max = int(n_points), int(directions), int(n_max)
     terms = _terms(
@@ -561,9 +554,9 @@ def _generate(
         z, dx, terms.omega, terms.amp_re, terms.amp_im, _BLOCK, terms.prefactor, terms.constant,
         terms.shift, 0, 0.0, 0.0,
     )  # fmt: skip
-    residual_mean, mean_abs = total / n_points, total_abs / n_points
+    residual_mean = total / n_points  # the rounding left of the closed-form mean, removed below
+    mean_abs = mean_abs_about(total_abs / n_points, residual_mean, lambda: (z,))
     _check_variation(mean_abs, terms, wavelength, length)
-    # one more pass removes the last rounding of the mean and scales to R_A
     _shift_scale(z, residual_mean, ra / mean_abs)
     _check_peak(max(float(z.max()), -float(z.min())), ra)
     if x is None:

@@ -35,7 +35,7 @@ measured deviation is in ``docs/performance.md``).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._checks import check_integer
+from .._roughness import mean_abs_about
 from ..errors import ParameterError
 from ..generate import (
     _BLOCK,
@@ -120,18 +121,28 @@ class _GeneratedHeights(_Heights):
         return out
 
 
-def _first_pass(terms: _Terms, n: int, dx: float, chunk: int) -> tuple[float, float, float, float]:
-    """Σ z, Σ |z| (as one whole run sums them), max and min of eq. 1's unscaled heights."""
+def _chunks(
+    terms: _Terms, n: int, dx: float, chunk: int
+) -> Iterator[tuple[NDArray[np.float64], float, float]]:
+    """Eq. 1's unscaled heights ``chunk`` points at a time, with Σ z and Σ |z| so far."""
     buffer = np.empty(min(chunk, n))
     total = total_abs = 0.0
-    high, low = -math.inf, math.inf
     for start in range(0, n, chunk):
         out = buffer[: min(chunk, n - start)]
         total, total_abs = _heights_kernel(
             out, dx, terms.omega, terms.amp_re, terms.amp_im, _BLOCK, terms.prefactor,
             terms.constant, terms.shift, start, total, total_abs,
         )  # fmt: skip
+        yield out, total, total_abs
+
+
+def _first_pass(terms: _Terms, n: int, dx: float, chunk: int) -> tuple[float, float, float, float]:
+    """Σ z, Σ |z| (as one whole run sums them), max and min of eq. 1's unscaled heights."""
+    total = total_abs = 0.0
+    high, low = -math.inf, math.inf
+    for out, total_so_far, total_abs_so_far in _chunks(terms, n, dx, chunk):
         high, low = max(high, float(out.max())), min(low, float(out.min()))
+        total, total_abs = total_so_far, total_abs_so_far
     return total, total_abs, high, low
 
 
@@ -143,7 +154,10 @@ def _generated(
     terms = _terms(dimension, n, length, wavelength, gamma, directions, n_max, law, seed)
     dx = length / (n - 1)
     total, total_abs, high, low = _first_pass(terms, n, dx, chunk)
-    residual_mean, mean_abs = total / n, total_abs / n
+    residual_mean = total / n
+    mean_abs = mean_abs_about(
+        total_abs / n, residual_mean, lambda: (h for h, _, _ in _chunks(terms, n, dx, chunk))
+    )
     _check_variation(mean_abs, terms, wavelength, length)
     factor = ra / mean_abs
     # (z − shift)·factor is monotone in z, so these are the scaled profile's max and min
