@@ -7,7 +7,7 @@ Polonsky & Keer (Wear 231 (1999) 206–219) at contact level, the punch widths, 
 springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without returning to Python.
 
 The mesh convolution is the package's compiled real-FFT circulant product
-(:func:`splinecontact._fft.circulant`); the mesh kernel and the transform's tables of every
+(``splinecontact._fft.circulant``); the mesh kernel and the transform's tables of every
 mesh size are computed on first use and cached in a typed list.
 """
 
