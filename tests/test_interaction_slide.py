@@ -255,3 +255,13 @@ def test_sliding_and_force_segments_run_with_interaction(rough, segment) -> None
     assert result.normal_force.size == 3
     assert result.parameters["interaction"] == "elastic half-plane"
     assert "n_slipping" in result.curves and "coalesced_contact_length" in result.curves
+
+
+@pytest.mark.parametrize(
+    "segment", [Segment(tangential=1e-3, steps=2), Segment(normal_force=1e-3, steps=2)]
+)
+def test_normal_path_displacements_refuses_sliding_and_force(segment) -> None:  # type: ignore[no-untyped-def]
+    from splinecontact.contact.interaction_path import normal_path_displacements
+
+    with pytest.raises(LoadPathError, match="slides or holds a normal force"):
+        normal_path_displacements([Segment(normal=1e-3, steps=2), segment])

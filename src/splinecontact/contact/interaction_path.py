@@ -40,25 +40,17 @@ def normal_path_displacements(segments: Iterable[Segment]) -> NDArray[np.float64
     Raises
     ------
     LoadPathError
-        A segment moves the upper body tangentially or holds a normal force: neither is
-        supported with interacting contacts.
+        A segment moves the upper body tangentially or holds a normal force (such paths are
+        followed by :func:`.interaction_slide.run_interacting_path`).
     """
     values = [0.0]
     current = 0.0
     for index, segment in enumerate(validate_path(segments)):
-        if segment.tangential is not None and segment.tangential != 0.0:
+        if _moves_or_holds(segment):
             raise LoadPathError(
-                f"path segment {index}: tangential = {segment.tangential!r} µm; interacting "
-                "contacts (interaction=True) run normal load paths only (loading, unloading, "
-                "reloading): tangential sliding is not supported with them yet — drop "
-                "tangential or interaction"
-            )
-        if segment.force_controlled:
-            raise LoadPathError(
-                f"path segment {index}: normal_force = {segment.normal_force!r} mN/µm; "
-                "interacting contacts (interaction=True) run displacement-controlled paths only: "
-                "force control is not supported with them yet — give normal= (δ_N [µm]) or "
-                "drop interaction"
+                f"path segment {index} ({segment!r}) slides or holds a normal force: it has no "
+                "δ_N given in advance; give normal= (δ_N [µm]) and no tangential, or follow "
+                "the path with simulate(..., path=...)"
             )
         target = current if segment.normal is None else float(segment.normal)
         k = np.arange(1, segment.steps + 1, dtype=np.float64)

@@ -46,7 +46,7 @@ from ..results import ContactRecord
 from ..spline import SplineFit
 from .geometry import ContactGeometry, add_contact_forces
 from .interaction import InteractionSettings, interacting_loading
-from .laws import tangential_spring
+from .laws import continued_spring
 from .loadpath import _prepare, _solve_force
 from .path_kernel import (
     Scratch,
@@ -129,20 +129,12 @@ def _spring_step(
         f_n = scratch.fn[c]
         e_x = scratch.ex[c]
         e_z = scratch.ez[c]
-        src = scratch.src[c]
-        previous = 0.0
-        increment = 0.0
-        if src >= 0:
-            # the increment (Δu_T, −Δδ_N) on the mean of the old and new tangents (eq. 11)
-            proj = 0.5 * (du * (springs.ez[src] + e_z) + dd * (springs.ex[src] + e_x))
-            previous = springs.ft[src]
-            increment = g_star * proj
-        f_t, slipping, trial = tangential_spring(previous, increment, mu0, f_n)
+        f_t, slipping, slip_work = continued_spring(
+            scratch.src[c], du, dd, e_x, e_z, f_n, g_star, mu0, springs.ft, springs.ex, springs.ez
+        )
         if slipping:
             n_slip += 1
-            if g_star > 0.0:
-                cap = mu0 * f_n
-                work += cap * (abs(trial) - cap) / g_star
+            work += slip_work
         scratch.ft[c] = f_t
         scratch.slip[c] = slipping
         sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])

@@ -52,6 +52,7 @@ __all__ = [
     "bind_law",
     "check_law",
     "commit_law",
+    "continued_spring",
     "kernel_material",
     "law_record",
     "law_step",
@@ -427,3 +428,39 @@ def tangential_spring(
     if trial < -cap:
         return -cap, True, trial
     return trial, False, trial
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def continued_spring(
+    src: int,
+    du: float,
+    dd: float,
+    e_x: float,
+    e_z: float,
+    normal_force: float,
+    g_star: float,
+    mu0: float,
+    ft_old: NDArray[np.float64],
+    ex_old: NDArray[np.float64],
+    ez_old: NDArray[np.float64],
+) -> tuple[float, bool, float]:  # pragma: no cover - compiled
+    """:func:`tangential_spring` of a contact that continues previous contact ``src`` (−1: new).
+
+    Eq. 11 with the upper body's increment (Δu_T = ``du``, −Δδ_N = −``dd``) [µm] projected on
+    the mean of the old and new tangents t = (e_z, −e_x) (trapezoidal rule: reversible without
+    slip); the previous contact's force and direction are ``ft_old[src]`` [mN/µm],
+    ``ex_old[src]``, ``ez_old[src]`` [1]. Returns (force [mN/µm], slipping, work dissipated by
+    the slip [mN·µm/µm]).
+    """
+    previous = 0.0
+    increment = 0.0
+    if src >= 0:
+        proj = 0.5 * (du * (ez_old[src] + e_z) + dd * (ex_old[src] + e_x))
+        previous = ft_old[src]
+        increment = g_star * proj
+    f_t, slipping, trial = tangential_spring(previous, increment, mu0, normal_force)
+    work = 0.0
+    if slipping and g_star > 0.0:
+        cap = mu0 * max(normal_force, 0.0)
+        work = cap * (abs(trial) - cap) / g_star
+    return f_t, slipping, work

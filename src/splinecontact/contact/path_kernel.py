@@ -36,7 +36,7 @@ from ._culling import (
     sliding_flags,
 )
 from .geometry import add_contact_forces, contact_centre_height, sphere_contact
-from .laws import Material, commit_law, normal_law, release_law, tangential_spring
+from .laws import Material, commit_law, continued_spring, normal_law, release_law
 
 __all__ = [
     "Culling",
@@ -516,21 +516,12 @@ def _settle(
         f_n = scratch.fn[c]
         e_x = scratch.ex[c]
         e_z = scratch.ez[c]
-        src = scratch.src[c]
-        previous = 0.0
-        increment = 0.0
-        if src >= 0:
-            # Eq. 11 with the upper body's increment (Δu_T, −Δδ_N) projected on the mean of the
-            # old and new tangents t = (e_z, −e_x) (trapezoidal rule: reversible without slip).
-            proj = 0.5 * (du * (springs.ez[src] + e_z) + dd * (springs.ex[src] + e_x))
-            previous = springs.ft[src]
-            increment = g_star * proj
-        f_t, slipping, trial = tangential_spring(previous, increment, mu0, f_n)
+        f_t, slipping, slip_work = continued_spring(
+            scratch.src[c], du, dd, e_x, e_z, f_n, g_star, mu0, springs.ft, springs.ex, springs.ez
+        )
         if slipping:
             n_slip += 1
-            if g_star > 0.0:
-                cap = mu0 * max(f_n, 0.0)
-                work += cap * (abs(trial) - cap) / g_star
+            work += slip_work
         scratch.ft[c] = f_t
         scratch.slip[c] = slipping
         sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
