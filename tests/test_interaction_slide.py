@@ -151,7 +151,11 @@ def test_rough_pair_mirror_symmetry_cap_and_dissipation(rough) -> None:  # type:
     # periodic with a fixed mesh: the coupled problem of the mirrored bodies is the mirror
     # image of this one (symmetry walls at 0 and L are not the mirror of the grid points
     # 0 … (n − 1)dx, and a mesh chosen per step does not sit symmetrically)
-    settings = InteractionSettings(periodic=True, mesh_cells=4096)
+    # (and the widths converged to rounding: stopped at width_tol, their last update depends on
+    # the order of the contacts)
+    settings = InteractionSettings(
+        periodic=True, mesh_cells=4096, width="hertz", width_iterations=100, width_tol=1e-13
+    )
     kwargs = {"e_star": E_STAR, "g_star": G_STAR, "mu0": mu0, "diagnostics": False,
               "interaction": settings}  # fmt: skip
     result = simulate(
@@ -178,9 +182,50 @@ def test_rough_pair_mirror_symmetry_cap_and_dissipation(rough) -> None:  # type:
     np.testing.assert_array_equal(mirror.n_contacts, result.n_contacts)
 
 
-def test_force_control_holds_the_coupled_normal_force(rough) -> None:  # type: ignore[no-untyped-def]
+def _held(result):  # type: ignore[no-untyped-def]
+    held = np.isfinite(result.normal_force_target)
+    return held, np.abs(result.normal_force[held] / result.normal_force_target[held] - 1)
+
+
+@pytest.mark.parametrize("bodies", ["two bumps on the flat", "two circles"])
+def test_force_control_holds_the_coupled_normal_force(bodies: str) -> None:
     """Constant-F_N segments (loading, sliding, unloading and reloading in force) hold the
-    coupled F_N to 1e−6 relative at every step."""
+    coupled F_N to 1e−6 relative at every step where F_N(δ_N) is continuous: two coupled
+    contacts (two bumps 0.1 µm apart on a flat), one contact sliding along its normal."""
+    x = np.arange(-1000, 1001) * ANGSTROM
+    if bodies == "two circles":
+        lower: Profile = Profile(x, circle_cap(x, 1.0))
+        upper: Profile | str = Profile(x, circle_cap(x, 2.0))
+    else:
+        lower = Profile(x, np.maximum(circle_cap(x, 1.0, -0.05), circle_cap(x, 1.0, 0.05)))
+        upper = "flat"
+    target = QP * E_STAR * 0.002
+    path = [
+        Segment(normal=0.001, steps=3),
+        Segment(normal_force=target, steps=3),
+        Segment(normal_force=target, tangential=0.02, steps=6),
+        Segment(normal_force=0.3 * target, steps=2),
+        Segment(normal_force=target, tangential=-0.01, steps=4),
+    ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        result = simulate(
+            lower, upper, e_star=E_STAR, mu0=0.3, interaction=True, path=path,
+            diagnostics=False,
+        )  # fmt: skip
+    held, miss = _held(result)
+    assert held.sum() == 15 and not held[:4].any()
+    assert miss.max() <= 1e-6
+    d = result.displacement
+    assert d[14] < d[12] and d[18] > d[14]  # unloading and reloading in force
+    assert result.n_contacts[held].min() == (1 if bodies == "two circles" else 2)
+    if bodies == "two circles":  # the upper circle is lowered to keep F_N while it slides
+        assert np.ptp(d[6:13]) > 1e-5
+
+
+def test_force_control_on_a_rough_pair_holds_or_says_where(rough) -> None:  # type: ignore[no-untyped-def]
+    """On a rough pair F_N(δ_N) jumps where eq. 9 accepts or drops a contact: every step holds
+    F_N to 1e−6 except those a RuntimeWarning counts (the nearer side of a jump)."""
     lower, upper = rough
     top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
     loaded = simulate(
@@ -191,22 +236,21 @@ def test_force_control_holds_the_coupled_normal_force(rough) -> None:  # type: i
     path = [
         Segment(normal_force=target, steps=3),
         Segment(normal_force=target, tangential=0.04, steps=6),
-        Segment(normal_force=0.3 * target, steps=2),
-        Segment(normal_force=target, tangential=0.0, steps=4),
     ]
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", RuntimeWarning)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
         result = simulate(
             lower, upper, e_star=E_STAR, mu0=0.3, interaction=True, path=path, diagnostics=False
         )
-    held = np.isfinite(result.normal_force_target)
-    assert held.sum() == 15 and not held[0]
-    np.testing.assert_allclose(
-        result.normal_force[held], result.normal_force_target[held], rtol=1e-6
-    )
-    d = result.displacement
-    assert d[11] < d[9] and d[15] > d[11]  # unloading and reloading in force
-    assert result.n_contacts[held].min() >= 1
+    held, miss = _held(result)
+    assert held.sum() == 9
+    n_miss = int(np.sum(miss > 1e-6))
+    messages = [str(w.message) for w in caught if "could not be held" in str(w.message)]
+    if n_miss:
+        assert len(messages) == 1 and f"at {n_miss} of 9 " in messages[0]
+    else:
+        assert not messages
+    assert np.median(miss) <= 1e-6
 
 
 def test_normal_only_path_is_the_interacting_normal_path(rough) -> None:  # type: ignore[no-untyped-def]

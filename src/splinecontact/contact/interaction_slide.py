@@ -11,7 +11,8 @@ configuration (u_T, δ_N) of the upper body:
   Table 1, eq. 10 with the elastic half-plane, interaction along the contact normals) on that
   geometry, as a two-step loading at the current shift: δ_N of the previous step, then δ_N of
   this one, so that this step is warm-started from the previous δ_N and summits lifted by the
-  surface's rise are tested against its displacement (as in the normal loading).
+  surface's rise are tested against its displacement (as in the normal loading). The contact
+  widths are converged at every step (``WIDTH_ITERATIONS``).
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`.path_kernel._migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -60,10 +61,16 @@ from .path_kernel import (
 )
 from .segments import Segment
 
-__all__ = ["FORCE_SOLVE_TOL", "run_interacting_path"]
+__all__ = ["FORCE_SOLVE_TOL", "WIDTH_ITERATIONS", "run_interacting_path"]
 
 #: Tolerance of the contact-level solve in force-controlled steps [1] (at most the settings').
 FORCE_SOLVE_TOL = 1e-11
+
+#: Width updates per step [1] (at least; they stop once the widths change by less than
+#: ``width_tol``). Every step restarts the widths from the Hertz widths of the previous δ_N at
+#: the current shift: with a single update they would stay 6–7 % off (in F_N) the converged
+#: widths on a 2048-point profile, with 5 or more they agree with them to 2e−4.
+WIDTH_ITERATIONS = 20
 
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
@@ -175,7 +182,9 @@ class _Driver:
         self.geo = _prepare(lower, fits[0], fits[1])
         self.n = lower.n_points
         self.dx = lower.dx
-        self.settings = settings
+        self.settings = dataclasses.replace(
+            settings, width_iterations=max(settings.width_iterations, WIDTH_ITERATIONS)
+        )
         self.extent = extent
         self.e_star = e_star
         self.g_star = g_star
