@@ -45,9 +45,9 @@ from ..errors import LoadPathError, NoConvergenceError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
-from .geometry import ContactGeometry, add_contact_forces
+from .geometry import ContactGeometry
 from .interaction import InteractionSettings, interacting_loading
-from .laws import continued_spring
+from .laws import spring_sums
 from .loadpath import _prepare, _solve_force
 from .path_kernel import (
     Scratch,
@@ -131,22 +131,7 @@ def _spring_step(
     sums of :func:`.geometry.add_contact_forces`, the slipping contacts and the work
     dissipated in the step [mN·µm/µm]; with ``commit`` the springs are replaced."""
     _migrate(springs.acc.size, n_c, migrate_cells, springs, scratch)
-    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
-    work = 0.0
-    n_slip = 0
-    for c in range(n_c):
-        f_n = scratch.fn[c]
-        e_x = scratch.ex[c]
-        e_z = scratch.ez[c]
-        f_t, slipping, slip_work = continued_spring(
-            scratch.src[c], du, dd, e_x, e_z, f_n, g_star, mu0, springs.ft, springs.ex, springs.ez
-        )
-        if slipping:
-            n_slip += 1
-            work += slip_work
-        scratch.ft[c] = f_t
-        scratch.slip[c] = slipping
-        sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
+    sums, n_slip, work, _ = spring_sums(du, dd, n_c, g_star, mu0, springs, scratch)
     if commit:
         for c in range(n_c):
             springs.cells[c] = scratch.idx[c]

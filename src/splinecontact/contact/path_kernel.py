@@ -35,8 +35,8 @@ from ._culling import (
     interval_envelope,
     sliding_flags,
 )
-from .geometry import add_contact_forces, contact_centre_height, sphere_contact
-from .laws import Material, commit_law, continued_spring, normal_law, release_law
+from .geometry import contact_centre_height, sphere_contact
+from .laws import Material, commit_law, normal_law, release_law, spring_sums
 
 __all__ = [
     "Culling",
@@ -506,27 +506,9 @@ def _settle(
 
     _migrate(n, n_c, migrate_cells, springs, scratch)
 
-    g_star = material.g_star
-    mu0 = material.mu0
-    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
-    work = 0.0
-    n_slip = 0
-    n_touch = 0
-    for c in range(n_c):
-        f_n = scratch.fn[c]
-        e_x = scratch.ex[c]
-        e_z = scratch.ez[c]
-        f_t, slipping, slip_work = continued_spring(
-            scratch.src[c], du, dd, e_x, e_z, f_n, g_star, mu0, springs.ft, springs.ex, springs.ez
-        )
-        if slipping:
-            n_slip += 1
-            work += slip_work
-        scratch.ft[c] = f_t
-        scratch.slip[c] = slipping
-        sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
-        if f_n != 0.0 or scratch.width[c] > 0.0:
-            n_touch += 1  # a law acting at a gap also visits points it leaves without force
+    sums, n_slip, work, n_touch = spring_sums(
+        du, dd, n_c, material.g_star, material.mu0, springs, scratch
+    )
     if commit:
         # The committed contacts are kept in grid order (slot p: cell springs.cells[p]).
         idx = scratch.idx[:n_c]
