@@ -12,7 +12,8 @@ configuration (u_T, δ_N) of the upper body:
   geometry, as a two-step loading at the current shift: δ_N of the previous step, then δ_N of
   this one, so that this step is warm-started from the previous δ_N and summits lifted by the
   surface's rise are tested against its displacement (as in the normal loading). The contact
-  widths get at least ``WIDTH_ITERATIONS`` updates per step.
+  widths get at least ``WIDTH_ITERATIONS`` updates per displacement-controlled step, the
+  settings' own number in force-controlled steps.
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`.path_kernel._migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -243,7 +244,9 @@ class _Driver:
             first_step_index=np.zeros(2, dtype=np.int64), displacement=np.array([self.d, d]),
             dx=self.dx, mean_gap0=0.0,
         )  # fmt: skip
-        curves, contacts = self._solve(geometry, self.settings, tol)
+        # force-controlled steps (tol given) keep the settings' width updates: with more, their
+        # many trials cost several times as much and the width loop can fail to converge
+        curves, contacts = self._solve(geometry, self.settings if tol is None else self.given, tol)
         record = contacts[0] if contacts else None
         n_c = 0 if record is None else record.point.size
         if n_c > self.scratch.idx.size:
