@@ -1,4 +1,4 @@
-"""Interacting SAD along a normal load path (loading, unloading, reloading).
+"""Interacting SAD along load paths: normal paths here (loading, unloading, reloading).
 
 The coupled contacts of :mod:`.interaction` under a displacement-controlled normal path given
 as :class:`~splinecontact.contact.Segment` pieces: the upper body's normal displacement δ_N
