@@ -11,8 +11,14 @@ from splinecontact import Profile, Segment, simulate, weierstrass_mandelbrot_pai
 from splinecontact.contact import ContactLaw, Hertz
 from splinecontact.contact.laws import (
     HERTZ,
+    _evaluate,
+    _evaluate_hertz,
+    _evaluate_typed,
     check_law,
     commit_law,
+    kernel_material,
+    law_step,
+    make_law,
     new_law_state,
     normal_law,
     tangential_spring,
@@ -43,6 +49,44 @@ def test_hertz_law_is_eq_10_with_a_squared_equal_delta_r(delta: float, r_eff: fl
     assert width == math.sqrt(delta * r_eff)
     commit_law(HERTZ, params, delta, r_eff, state, 1)  # no history: nothing to change
     assert state.shape == (3, 0)
+
+
+@pytest.mark.parametrize("delta", [1e-9, 1e-4, 0.3])
+@pytest.mark.parametrize("r_eff", [1e-3, 1.0, 250.0])
+def test_hertz_alone_form_is_bit_identical(delta: float, r_eff: float) -> None:
+    # The 1-tuple (E*,) of the loading loop and the array of the other kernels: the same bits.
+    state = new_law_state(Hertz(), 3)
+    array = Hertz().kernel_parameters(7.5)
+    alone = kernel_material(
+        Hertz(), e_star=7.5, g_star=3.0, mu0=0.5, n_points=3, hertz_alone=True
+    ).law_params
+    assert alone == (7.5,)
+    for fn in (normal_law, law_step):
+        assert fn(HERTZ, alone, delta, r_eff, state, 1) == fn(HERTZ, array, delta, r_eff, state, 1)
+    commit_law(HERTZ, alone, delta, r_eff, state, 1)
+    assert state.shape == (3, 0)
+
+
+def test_hertz_alone_form_compiles_no_other_law() -> None:
+    # The form is chosen by the type of the parameters when a kernel is typed: a 1-tuple gets
+    # the Hertz form, which names no other law; an array gets the form with every law.
+    from numba.core import types
+
+    args = (types.int64, types.float64, types.float64, types.float64[:, :], types.int64)
+    tuple_params = types.UniTuple(types.float64, 1)
+    assert _evaluate_typed(args[0], tuple_params, *args[1:], types.int64) is _evaluate_hertz
+    assert _evaluate_typed(args[0], types.float64[:], *args[1:], types.int64) is _evaluate
+    names = set(_evaluate_hertz.__code__.co_names)
+    assert not names & {"dmt_evaluate", "_history_law", "_store", "md_evaluate"}
+    assert {"dmt_evaluate", "_history_law"} <= set(_evaluate.__code__.co_names)
+    # Only Hertz gets it; the load-path kernel (no hertz_alone) gets an array for Hertz too.
+    for law in (make_law("jkr", work_of_adhesion=0.1), make_law("elastic-plastic", hardness=2)):
+        material = kernel_material(
+            law, e_star=10.0, g_star=4.0, mu0=0.5, n_points=2, hertz_alone=True
+        )
+        assert isinstance(material.law_params, np.ndarray)
+    material = kernel_material(Hertz(), e_star=10.0, g_star=4.0, mu0=0.5, n_points=2)
+    assert isinstance(material.law_params, np.ndarray)
 
 
 @pytest.mark.parametrize(

@@ -107,6 +107,10 @@ def test_unreadable_laws_study_file(tmp_path: Path) -> None:
     bad.write_text("[laws_study\n", encoding="utf-8")
     with pytest.raises(StudyConfigError, match="not valid TOML"):
         load_laws_study(bad)
+    deep = tmp_path / "deep.toml"
+    deep.write_text("dimensions = " + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    with pytest.raises(StudyConfigError, match="nested too deeply"):
+        load_laws_study(deep)
 
 
 def _cli(*args: str) -> subprocess.CompletedProcess[str]:
@@ -155,3 +159,24 @@ def test_bad_laws_study_file_on_the_command_line_is_one_line(tmp_path: Path) -> 
     assert proc.returncode != 0 and len(lines) == 1, proc.stderr
     assert "StudyConfigError" in lines[0] and "hardness" in lines[0]
     assert not out.exists()
+
+
+def test_a_laws_study_file_and_laws_study_share_their_defaults() -> None:
+    """Every key a file may omit defaults to what :func:`laws_study` takes when omitted."""
+    import dataclasses
+    import inspect
+
+    from splinecontact.analysis.laws_study_file import LawsStudySpec
+
+    arguments = inspect.signature(laws_study).parameters
+    shared = [
+        f
+        for f in dataclasses.fields(LawsStudySpec)
+        if f.name in arguments and f.default is not dataclasses.MISSING
+    ]
+    assert {f.name for f in shared} >= {"flat", "n_points", "length", "steps", "e_star"}
+    for field in shared:
+        assert field.default == arguments[field.name].default, field.name
+    only = parse_laws_study({"laws_study": {"dimensions": [1.5], "seeds": [3]}})
+    for field in shared:
+        assert getattr(only, field.name) == arguments[field.name].default, field.name

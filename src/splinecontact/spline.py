@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import Any
 
 import numba
 import numpy as np
@@ -133,11 +134,13 @@ _PAIR_THREAD_MIN_POINTS = 32_768
 
 
 @numba.njit(cache=True, nogil=True)
-def _grow(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
-    grown = np.empty(capacity)
+def grown(values: NDArray[Any], capacity: int) -> NDArray[Any]:  # pragma: no cover - compiled
+    """A new array of ``capacity`` ≥ ``values.size`` entries of values' dtype, ``values`` first
+    (the rest uninitialised): the growth of the compiled loops' output buffers."""
+    out = np.empty(capacity, dtype=values.dtype)
     for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
-        grown[i] = values[i]
-    return grown
+        out[i] = values[i]
+    return out
 
 
 @numba.njit(cache=True, nogil=True, fastmath={"contract"})
@@ -181,9 +184,9 @@ def _reinsch_uniform(
     for i in range(1, m):
         if i >= capacity:
             capacity = min(m, 2 * capacity)
-            d = _grow(d, capacity)
-            l1 = _grow(l1, capacity)
-            l2 = _grow(l2, capacity)
+            d = grown(d, capacity)
+            l1 = grown(l1, capacity)
+            l2 = grown(l2, capacity)
         if i >= 2:
             l2[i] = c / d[i - 2]
             l1[i] = (b - l2[i] * l1[i - 1] * d[i - 2]) / d[i - 1]

@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import BEMError
-from ._stages import _batched_fft
+from ._stages import _batched_fft, rotate
 
 __all__ = ["CirculantConvolution", "circulant", "fast_size", "transform_size"]
 
@@ -129,12 +129,7 @@ def _complex_fft(
         tw = c * n1
         for k1 in range(n1):
             src = k1 * s1 + c
-            xr = sr[src]
-            xi = si[src]
-            cr = tr[tw + k1]
-            ci = ti[tw + k1]
-            dr[row + k1] = xr * cr - xi * ci
-            di[row + k1] = xr * ci + xi * cr
+            dr[row + k1], di[row + k1] = rotate(sr[src], si[src], tr[tw + k1], ti[tw + k1])
     # result in d unless the second batch ends in s
     return _batched_fft(dr, di, sr, si, n2, n1, s2, w2r, w2i) == (dr is ar)
 

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -98,6 +98,10 @@ class LawsStudySpec:
         return len(self.dimensions) * len(self.seeds)
 
 
+#: The default of every key a file may omit: the :class:`LawsStudySpec` field defaults.
+_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(LawsStudySpec)}
+
+
 def _is_number(value: object) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
@@ -109,7 +113,6 @@ def _is_dimension(value: object) -> bool:
 def _number(
     table: Mapping[str, Any],
     key: str,
-    default: float,
     *,
     integer: bool = False,
     low: float = -math.inf,
@@ -118,7 +121,7 @@ def _number(
     high_open: bool = False,
 ) -> Any:
     where = f"laws_study.{key}"
-    value = table.get(key, default)
+    value = table.get(key, _DEFAULTS[key])
     if integer and (not isinstance(value, int) or isinstance(value, bool)):
         raise StudyConfigError(f"{where} = {value!r}: must be a whole number")
     if not _is_number(value) or not math.isfinite(value):
@@ -211,17 +214,13 @@ def parse_laws_study(data: Mapping[str, Any]) -> LawsStudySpec:
         dimensions=tuple(float(d) for d in dims),
         seeds=tuple(int(s) for s in seeds),
         flat=contact_type == "rough-on-flat",
-        n_points=_number(table, "n_points", 20_000, integer=True, low=8, high=10**8),
-        length=_number(table, "length", 2.0, low=0.0, low_open=True, high=1e50),
-        load_fraction=_number(table, "load_fraction", 0.1, low=0.0, low_open=True, high=1.0),
-        steps=_number(table, "steps", 150, integer=True, low=3, high=10**7),
-        e_star=_number(
-            table, "e_star", _MODEL_DEFAULTS["e_star"], low=0.0, low_open=True, high=1e50
-        ),
-        fit_fraction=_number(table, "fit_fraction", 0.3, low=0.0, low_open=True, high=1.0),
-        confidence=_number(
-            table, "confidence", 0.95, low=0.0, high=1.0, low_open=True, high_open=True
-        ),
+        n_points=_number(table, "n_points", integer=True, low=8, high=10**8),
+        length=_number(table, "length", low=0.0, low_open=True, high=1e50),
+        load_fraction=_number(table, "load_fraction", low=0.0, low_open=True, high=1.0),
+        steps=_number(table, "steps", integer=True, low=3, high=10**7),
+        e_star=_number(table, "e_star", low=0.0, low_open=True, high=1e50),
+        fit_fraction=_number(table, "fit_fraction", low=0.0, low_open=True, high=1.0),
+        confidence=_number(table, "confidence", low=0.0, high=1.0, low_open=True, high_open=True),
         laws=tuple(laws),
     )
 
@@ -243,6 +242,10 @@ def load_laws_study(path: str | Path) -> LawsStudySpec:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise StudyConfigError(f"{file} is not valid TOML: {error}") from None
+    except RecursionError:
+        raise StudyConfigError(
+            f"{file} is not a laws-study file (arrays or tables nested too deeply)"
+        ) from None
     return parse_laws_study(data)
 
 

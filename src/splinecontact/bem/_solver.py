@@ -6,7 +6,7 @@ the projected conjugate-gradient iteration without the force constraint (numpy, 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +19,9 @@ from ._problem import DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactProblem,
 from ._results import STEP_UNITS, BEMPath, BEMStep, contact_statistics
 
 __all__ = ["gap_path", "load_path", "solve_gap", "solve_pressure"]
+
+#: A pressure field [GPa] that warm-starts the next step of a path, or None.
+_Field = NDArray[np.float64] | None
 
 
 # --- solvers --------------------------------------------------------------------------------
@@ -440,16 +443,14 @@ def load_path(
     """
     _check_solver_args(tol, max_iterations)
     loads = [_check_load(problem, p) for p in np.asarray(mean_pressures, dtype=np.float64)]
-    steps: list[BEMStep] = []
-    previous: NDArray[np.float64] | None = None
-    for load in loads:
+
+    def solve(load: float, previous: _Field) -> tuple[BEMStep, _Field]:
         if load == 0.0:
-            steps.append(_touching(problem, fields))
-            continue
+            return _touching(problem, fields), previous
         sol = _solve_load_state(problem, load, previous, tol, max_iterations)
-        previous = sol.pressure
-        steps.append(_make_step(problem, sol, load, fields))
-    return BEMPath(tuple(steps), problem.e_star, problem.dx, problem.n_points, float(tol))
+        return _make_step(problem, sol, load, fields), sol.pressure
+
+    return _warm_started(problem, loads, solve, tol)
 
 
 def gap_path(
@@ -477,19 +478,31 @@ def gap_path(
     """
     _check_solver_args(tol, max_iterations)
     gaps = [_check_gap(problem, g) for g in np.asarray(mean_gaps, dtype=np.float64)]
-    steps: list[BEMStep] = []
-    previous: NDArray[np.float64] | None = None
-    for value in gaps:
+
+    def solve(value: float, previous: _Field) -> tuple[BEMStep, _Field]:
         step = solve_gap(
-            problem,
-            value,
-            initial_pressure=previous,
-            tol=tol,
-            max_iterations=max_iterations,
+            problem, value, initial_pressure=previous, tol=tol, max_iterations=max_iterations,
             fields=True,
-        )
-        previous = None if step.pressure is None else np.array(step.pressure)
+        )  # fmt: skip
+        pressure = None if step.pressure is None else np.array(step.pressure)
         if not fields:
             step = BEMStep(**{k: getattr(step, k) for k in STEP_UNITS})
+        return step, pressure
+
+    return _warm_started(problem, gaps, solve, tol)
+
+
+def _warm_started(
+    problem: ContactProblem,
+    values: list[float],
+    solve: Callable[[float, _Field], tuple[BEMStep, _Field]],
+    tol: float,
+) -> BEMPath:
+    """The path of ``solve`` over ``values`` in order, each step warm-started from the pressure
+    field [GPa] the step before left (``None`` before the first)."""
+    steps: list[BEMStep] = []
+    previous: _Field = None
+    for value in values:
+        step, previous = solve(value, previous)
         steps.append(step)
     return BEMPath(tuple(steps), problem.e_star, problem.dx, problem.n_points, float(tol))

@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 __all__ = [
     "Bodies",
     "BodySpec",
+    "body_files",
     "check_grids",
     "load_bodies",
     "parse_body_spec",
@@ -197,6 +198,21 @@ def parse_body_spec(text: str, *, option: str) -> BodySpec:
             f"{option} {text!r} is not a regular file (a device or pipe); give a profile file"
         )
     return BodySpec(stripped, "file")
+
+
+def body_files(lower_text: str, upper_text: str) -> list[Path]:
+    """The files named by the ``--lower`` and ``--upper`` specs: inputs no output may replace.
+
+    Raises
+    ------
+    ParameterError, ProfileReadError
+        As :func:`parse_body_spec` (``--lower`` checked first).
+    """
+    specs = (
+        parse_body_spec(lower_text, option="--lower"),
+        parse_body_spec(upper_text, option="--upper"),
+    )
+    return [s.path for s in specs if s.kind == "file"]
 
 
 @dataclass(frozen=True)

@@ -15,8 +15,8 @@ from typing import Annotated
 import typer
 
 from ..errors import ParameterError
-from ._bodies import BODY_SPEC_HELP, load_bodies, parse_body_spec
-from ._errors import handle_errors
+from ._bodies import BODY_SPEC_HELP, body_files, load_bodies
+from ._errors import handle_errors, note
 from ._reading import EStarOpt, OverwriteOpt, ProfileReading, QuietOpt, with_reading_options
 
 __all__ = ["register"]
@@ -135,19 +135,14 @@ def register(app: typer.Typer) -> None:
                 f"--max-contact-fraction {max_contact_fraction!r} must be in (0, 1]"
             )
         reading = reading_options()
-        specs = [
-            parse_body_spec(lower, option="--lower"),
-            parse_body_spec(upper, option="--upper"),
-        ]
-        _check_output_folder(output, overwrite, [s.path for s in specs if s.kind == "file"])
+        _check_output_folder(output, overwrite, body_files(lower, upper))
         bodies = load_bodies(lower, upper, reading, default_n_points=COMPARE_N_POINTS)
 
         def say(text: str) -> None:
             if not quiet:
                 typer.echo(text, err=True)
 
-        for note in bodies.notes:
-            typer.echo(f"note: {note}", err=True)
+        note(*bodies.notes)
         comparison = compare_profiles(
             bodies.lower, bodies.upper, e_star=e_star, steps=steps,
             final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
@@ -163,8 +158,8 @@ def register(app: typer.Typer) -> None:
         picture = folder.file("compare.png")
         with atomic_path(picture) as tmp:
             write_figure(comparison, tmp)
-        for note in comparison.notes:
-            typer.echo(f"note: {note}")
+        for text in comparison.notes:
+            typer.echo(f"note: {text}")
         typer.echo(
             f"compared at {comparison.columns['force'].size} forces; medians: "
             f"SAD width / exact {comparison.median('ratio_width'):.3g}, "

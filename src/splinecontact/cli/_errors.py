@@ -23,7 +23,7 @@ from ..errors import SplineContactError
 P = ParamSpec("P")
 T = TypeVar("T")
 
-__all__ = ["fail", "handle_errors", "warn"]
+__all__ = ["fail", "handle_errors", "note", "warn"]
 
 
 def fail(message: str, code: int = 1) -> typer.Exit:
@@ -35,6 +35,12 @@ def fail(message: str, code: int = 1) -> typer.Exit:
 def warn(message: str) -> None:
     """Print ``warning: message`` on standard error."""
     typer.secho(f"warning: {message}", err=True, fg=typer.colors.YELLOW)
+
+
+def note(*messages: str) -> None:
+    """Print ``note: message`` on standard error, one line each (seeds drawn, bodies made)."""
+    for message in messages:
+        typer.echo(f"note: {message}", err=True)
 
 
 @contextlib.contextmanager

@@ -8,8 +8,8 @@ from typing import Annotated
 
 import typer
 
-from ._bodies import load_bodies, parse_body_spec
-from ._errors import handle_errors
+from ._bodies import body_files, load_bodies
+from ._errors import handle_errors, note
 from ._law import (
     CohesiveStressOpt,
     HardnessOpt,
@@ -93,16 +93,11 @@ def register(app: typer.Typer) -> None:
         )  # fmt: skip
 
         reading = reading_options()
-        specs = [
-            parse_body_spec(lower, option="--lower"),
-            parse_body_spec(upper, option="--upper"),
-        ]
-        inputs = [s.path for s in specs if s.kind == "file"]
+        inputs = body_files(lower, upper)
         out = check_output_file(output, overwrite=overwrite, inputs=inputs, option="--output")
         segments = parse_path(path)
         bodies = load_bodies(lower, upper, reading)
-        for note in bodies.notes:
-            typer.echo(f"note: {note}", err=True)
+        note(*bodies.notes)
         result = simulate(
             bodies.lower, bodies.upper, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
             x0=x0, path=segments, law=contact_law, interaction=interaction,

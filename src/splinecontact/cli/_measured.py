@@ -17,12 +17,12 @@ from ..errors import OutputWriteError, ParameterError, ProfileReadError
 from ._bodies import (
     BODY_SPEC_HELP,
     BodySpec,
+    body_files,
     load_bodies,
-    parse_body_spec,
     parse_generated_spec,
     read_body,
 )
-from ._errors import handle_errors, warn
+from ._errors import handle_errors, note, warn
 from ._law import (
     CohesiveStressOpt,
     HardnessOpt,
@@ -201,12 +201,9 @@ def simulate_command(
             f"--final-displacement {final_displacement!r} must be a positive finite length in µm"
         )
     reading = reading_options()
-    specs = [parse_body_spec(lower, option="--lower"), parse_body_spec(upper, option="--upper")]
-    inputs = [s.path for s in specs if s.kind == "file"]
-    check_output_file(output, overwrite=overwrite, inputs=inputs)
+    check_output_file(output, overwrite=overwrite, inputs=body_files(lower, upper))
     bodies = load_bodies(lower, upper, reading)
-    for note in bodies.notes:
-        typer.echo(f"note: {note}", err=True)
+    note(*bodies.notes)
     with warnings.catch_warnings():
         # the diagnostics are printed once below (and simulate issues them for scripts)
         from ..diagnostics import SimulationWarning, simulation_diagnostics

@@ -15,17 +15,25 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "SPHERE_BLOCK",
     "Culling",
     "Surfaces",
     "block_max",
     "candidate_blocks",
     "candidate_bounds",
+    "fill_spheres",
     "first_at_least",
     "interval_envelope",
     "run_flags",
     "sliding_flags",
+    "sphere_ready",
     "step_runs",
 ]
+
+
+#: Points per block of the lazily evaluated lower spheres (a power of two).
+SPHERE_BLOCK = 64
+_SPHERE_SHIFT = 6
 
 
 class Surfaces(NamedTuple):
@@ -43,6 +51,11 @@ class Surfaces(NamedTuple):
     placement: float  # C: zero minimum gap at δ_N = 0, u_T = 0 [µm]
     dx: float  # grid spacing [µm]
     kappa_max: float  # 1/r_min [1/µm]
+    # The lower spheres (kappa_l, nl_x, nl_z) are evaluated lazily, a block of SPHERE_BLOCK
+    # points at a time, where a point can close (:func:`fill_spheres`): not at every point.
+    slope_l: NDArray[np.float64]  # lower f′ [1]
+    curv_l: NDArray[np.float64]  # lower f″ [1/µm]
+    sphere_done: NDArray[np.uint8]  # per block of SPHERE_BLOCK points: spheres evaluated
 
 
 class Culling(NamedTuple):
@@ -280,12 +293,14 @@ def _may_touch(
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _run_flags(
-    surf: Surfaces,
     i0: int,
     k0: int,
     shift: float,
     d: float,
     reach: float,
+    placement: float,
+    kappa_max: float,
+    dx: float,
     f_l: NDArray[np.float64],
     kappa_l: NDArray[np.float64],
     nl_x: NDArray[np.float64],
@@ -299,12 +314,11 @@ def _run_flags(
     The arrays are views starting at point i0 (lower), knot k0 (upper) and the run's first
     flag; contiguous, so that the loop runs on vector units. A point whose knot interval
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
-    (evaluated again alone).
+    (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
+    itself: passing it to a function called per run costs more than the run's arithmetic).
     """
-    placement = surf.placement
-    kappa_max = surf.kappa_max
-    inv_dx = 1.0 / surf.dx
-    lim = surf.dx * (1.0 + 1e-6)
+    inv_dx = 1.0 / dx
+    lim = dx * (1.0 + 1e-6)
     min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
@@ -332,9 +346,11 @@ def _run_flags(
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _knot_flags(
-    surf: Surfaces,
     d: float,
     reach: float,
+    placement: float,
+    kappa_max: float,
+    dx: float,
     f_l: NDArray[np.float64],
     kappa_l: NDArray[np.float64],
     nl_x: NDArray[np.float64],
@@ -345,9 +361,7 @@ def _knot_flags(
     flags: NDArray[np.uint8],
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
-    placement = surf.placement
-    kappa_max = surf.kappa_max
-    lim = surf.dx * (1.0 + 1e-6)
+    lim = dx * (1.0 + 1e-6)
     min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
@@ -362,7 +376,7 @@ def _knot_flags(
     return n_closed
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def _flag_run(
     surf: Surfaces,
     i0: int,
@@ -386,17 +400,21 @@ def _flag_run(
     a = i0 + p_lo
     b = k0 + p_lo
     e = i0 + p_hi
+    for blk in range(a >> _SPHERE_SHIFT, ((e - 1) >> _SPHERE_SHIFT) + 1):
+        if not surf.sphere_done[blk]:  # (a call costs more than the test)
+            fill_spheres(surf, a, e)
+            break
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
-            surf, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e],
-            surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a], surf.curv_u[b : b + e - a],
-            flags[p_lo:p_hi],
+            d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
+            surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
+            surf.curv_u[b : b + e - a], flags[p_lo:p_hi],
         )  # fmt: skip
     return _run_flags(
-        surf, a, b, shift, d, reach, surf.f_l[a:e], surf.kappa_l[a:e], surf.nl_x[a:e],
-        surf.nl_z[a:e], surf.f_u[b : b + e - a + 1], surf.gamma_u[b : b + e - a + 1],
-        flags[p_lo:p_hi],
+        a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
+        surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
+        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi],
     )  # fmt: skip
 
 
@@ -541,30 +559,36 @@ def run_flags(
     return n_closed
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
-def own_frame_arrays(
-    slope: NDArray[np.float64], second_derivative: NDArray[np.float64], r_min: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover
-    """:func:`splinecontact.spheres.own_frame_geometry` in one compiled pass (same values).
+@numba.njit(cache=True, nogil=True)
+def fill_spheres(surf: Surfaces, i0: int, i1: int) -> None:  # pragma: no cover - compiled
+    """Evaluate the lower spheres of the blocks holding points i0 … i1 − 1, where not done.
 
-    κ = −f″/(1 + f′²)^{3/2} clamped to |κ| ≤ 1/r_min [1/µm], n = (−f′, 1)/√(1 + f′²) [1],
-    operation for operation as there.
+    :func:`splinecontact.spheres.own_frame_geometry`, operation for operation (the same
+    values): κ = −f″/(1 + f′²)^{3/2} clamped to |κ| ≤ κ_max [1/µm], n = (−f′, 1)/√(1 + f′²) [1].
     """
-    n = slope.size
-    kappa = np.empty(n)
-    n_x = np.empty(n)
-    n_z = np.empty(n)
-    lo = -1.0 / r_min
-    hi = 1.0 / r_min
-    for i in range(n):
-        s = slope[i]
-        norm = math.sqrt(1.0 + s * s)
-        k = -second_derivative[i] / (norm * norm * norm)
-        k = lo if k < lo else k
-        kappa[i] = hi if k > hi else k
-        n_x[i] = -s / norm
-        n_z[i] = 1.0 / norm
-    return kappa, n_x, n_z
+    done = surf.sphere_done
+    n = surf.f_l.size
+    hi = surf.kappa_max
+    lo = -hi
+    for b in range(i0 >> _SPHERE_SHIFT, ((i1 - 1) >> _SPHERE_SHIFT) + 1):
+        if done[b]:
+            continue
+        for i in range(b << _SPHERE_SHIFT, min(n, (b + 1) << _SPHERE_SHIFT)):
+            slope = surf.slope_l[i]
+            norm = math.sqrt(1.0 + slope * slope)
+            k = -surf.curv_l[i] / (norm * norm * norm)
+            k = lo if k < lo else k
+            surf.kappa_l[i] = hi if k > hi else k
+            surf.nl_x[i] = -slope / norm
+            surf.nl_z[i] = 1.0 / norm
+        done[b] = 1
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def sphere_ready(surf: Surfaces, i: int) -> None:  # pragma: no cover - compiled
+    """Make sure the lower sphere of point i is evaluated (:func:`fill_spheres`)."""
+    if not surf.sphere_done[i >> _SPHERE_SHIFT]:
+        fill_spheres(surf, i, i + 1)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")

@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._checks import MAGNITUDE_LIMIT
-from ..errors import CohesiveStressError, WorkOfAdhesionError
+from ..errors import CohesiveStressError, ContactLawError, WorkOfAdhesionError
 
 __all__ = [
     "DMT",
@@ -67,34 +67,33 @@ _LOG_2BETA = 1.5
 N_STATE = 5
 
 
-def _check_w(value: object) -> float:
+def _check_number(
+    value: object, error: type[ContactLawError], name: str, unit: str, zero_ok: bool, hint: str
+) -> float:
+    # A finite number ≥ 0 (zero_ok) or > 0, not above MAGNITUDE_LIMIT; else ``error`` naming
+    # the value and its unit, and how to give it (``hint``).
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise WorkOfAdhesionError(
-            f"work_of_adhesion = {value!r} is not a number; give the work of adhesion in J/m² "
-            "(typical 0.01–1)"
-        )
+        raise error(f"{name} = {value!r} is not a number; {hint}")
     number = float(value)
-    if not math.isfinite(number) or number < 0.0 or number > MAGNITUDE_LIMIT:
-        raise WorkOfAdhesionError(
-            f"work_of_adhesion = {number!r} J/m² must be a finite number ≥ 0 (0 is Hertz); "
-            "give the work of adhesion in J/m² (typical 0.01–1)"
-        )
+    low_ok = number >= 0.0 if zero_ok else number > 0.0
+    if not math.isfinite(number) or not low_ok or number > MAGNITUDE_LIMIT:
+        bound = "≥ 0 (0 is Hertz)" if zero_ok else "> 0"
+        raise error(f"{name} = {number!r} {unit} must be a finite number {bound}; {hint}")
     return number
+
+
+def _check_w(value: object) -> float:
+    return _check_number(
+        value, WorkOfAdhesionError, "work_of_adhesion", "J/m²", True,
+        "give the work of adhesion in J/m² (typical 0.01–1)",
+    )  # fmt: skip
 
 
 def _check_sigma(value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise CohesiveStressError(
-            f"cohesive_stress = {value!r} is not a number; give the Dugdale stress σ0 in GPa "
-            "(typical 0.1–10)"
-        )
-    number = float(value)
-    if not math.isfinite(number) or number <= 0.0 or number > MAGNITUDE_LIMIT:
-        raise CohesiveStressError(
-            f"cohesive_stress = {number!r} GPa must be a finite number > 0; give the Dugdale "
-            "stress σ0 in GPa (typical 0.1–10)"
-        )
-    return number
+    return _check_number(
+        value, CohesiveStressError, "cohesive_stress", "GPa", False,
+        "give the Dugdale stress σ0 in GPa (typical 0.1–10)",
+    )  # fmt: skip
 
 
 # --- 2D JKR (Barquins 1988; Chaudhury, Weaver, Hui & Kramer 1996) -----------------------------

@@ -41,7 +41,7 @@ from .._checks import LENGTH_LIMIT, MAGNITUDE_LIMIT, check_real
 from ..errors import GridMismatchError, ParameterError
 from ..profile import UNIFORM_GRID_RTOL, Profile
 from ..spheres import own_frame_geometry
-from ..spline import SplineFit, fit_spline_pair
+from ..spline import SplineFit, fit_spline_pair, grown
 
 __all__ = [
     "ContactGeometry",
@@ -111,22 +111,6 @@ class ContactGeometry:
 _PLACE_CHUNK = 256
 
 
-@numba.njit(cache=True, nogil=True)
-def _grown(values: NDArray[np.float64], capacity: int) -> NDArray[np.float64]:  # pragma: no cover
-    out = np.empty(capacity)
-    for i in range(values.size):  # a loop: slice assignment costs seconds of compilation
-        out[i] = values[i]
-    return out
-
-
-@numba.njit(cache=True, nogil=True)
-def _grown_int(values: NDArray[np.int64], capacity: int) -> NDArray[np.int64]:  # pragma: no cover
-    out = np.empty(capacity, dtype=np.int64)
-    for i in range(values.size):
-        out[i] = values[i]
-    return out
-
-
 @numba.njit(cache=True, nogil=True, fastmath={"reassoc", "nsz"})
 def _place_bodies(
     f_l: NDArray[np.float64], f_u: NDArray[np.float64], flat: bool, final: float
@@ -164,15 +148,15 @@ def _place_bodies(
             continue
         if count + found > capacity:
             capacity = max(2 * capacity, count + found)
-            gaps = _grown(gaps, capacity)
-            candidates = _grown_int(candidates, capacity)
+            gaps = grown(gaps, capacity)
+            candidates = grown(candidates, capacity)
         for i in range(lower.size):
             g = offset - (upper[i] + lower[i])
             if g <= final:
                 gaps[count] = g
                 candidates[count] = start + i
                 count += 1
-    return _grown(gaps[:count], count), _grown_int(candidates[:count], count), gap_sum / n
+    return grown(gaps[:count], count), grown(candidates[:count], count), gap_sum / n
 
 
 def displacement_steps(

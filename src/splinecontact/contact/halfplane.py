@@ -2,9 +2,10 @@
 
 The periodic plane-strain Green function of a line load (the kernel of :mod:`splinecontact.bem`
 summed in closed form), the coupling coefficients of Hertzian contacts (flat-punch averages,
-Barber's reciprocal argument), the particle–mesh operator C P = 2c P + e_z w(P) and the
-constrained conjugate gradients (Polonsky & Keer, Wear 231 (1999) 206–219) that solve the
-unilateral contact problem at contact level. Used by :mod:`.interaction`.
+Barber's reciprocal argument), the pieces of the particle–mesh operator C P = 2c P + e_z w(P)
+(mesh kernel, spreading, near pairs, reading back) and the steps of the constrained conjugate
+gradients (Polonsky & Keer, Wear 231 (1999) 206–219) that solve the unilateral contact problem
+at contact level. Used by the compiled loop of :mod:`.interaction_kernel`.
 """
 
 from __future__ import annotations
@@ -14,10 +15,7 @@ from typing import Any
 
 import numba
 import numpy as np
-import scipy.fft as sfft
 from numpy.typing import NDArray
-
-from ..errors import NoConvergenceError
 
 __all__ = [
     "CELLS_PER_SOURCE",
@@ -40,9 +38,6 @@ NEAR_WIDTHS = 6.0
 
 #: Gauss–Chebyshev (second kind) nodes over the Hertz distribution of a neighbour.
 _QUAD_NODES = 16
-
-#: Conjugate-gradient iterations per solve.
-_MAX_INNER = 10_000
 
 
 # --- closed forms ---------------------------------------------------------------------------
@@ -275,96 +270,6 @@ def mesh_kernel(cells: int, period: float, e_star: float) -> NDArray[np.float64]
     return np.asarray(green - (h**2 / 6.0) * curvature, dtype=np.float64)
 
 
-class _Operator:
-    """Displacement at the contacts caused by contact loads: mesh far field + exact near field."""
-
-    def __init__(
-        self,
-        period: float,
-        cells: int | None,
-        e_star: float,
-        mirror: bool,
-        length_nodes: int,
-        dx: float,
-    ) -> None:
-        self.period = period
-        self.fixed_cells = cells
-        self.e_star = e_star
-        self.c = 2.0 / (math.pi * e_star)
-        self.mirror = mirror
-        self.mirror_axis = (2 * length_nodes - 1) * dx
-        self.max_cells = max(64, 1 << math.ceil(math.log2(max(2 * length_nodes, 2))))
-        self.nodes, self.weights = _quadrature()
-        self._meshes: dict[int, tuple[NDArray[np.float64], NDArray[np.complex128]]] = {}
-        self._use(cells if cells is not None else 64)
-
-    def _use(self, cells: int) -> None:
-        """Switch to a mesh of ``cells`` cells (kernels cached per size)."""
-        if cells not in self._meshes:
-            mesh_green = mesh_kernel(cells, self.period, self.e_star)
-            self._meshes[cells] = (mesh_green, sfft.rfft(mesh_green))
-        self.cells = cells
-        self.h = self.period / cells
-        self.mesh_green, self.spectrum = self._meshes[cells]
-
-    def prepare(
-        self, x: NDArray[np.float64], a: NDArray[np.float64], ez: NDArray[np.float64]
-    ) -> None:
-        n = x.size
-        self.n = n
-        if self.fixed_cells is None:
-            # about CELLS_PER_SOURCE cells per load (contacts and images): the mesh follows the
-            # number of contacts, not the number of grid points
-            sources = 2 * n if self.mirror else n
-            wanted = 1 << math.ceil(math.log2(max(CELLS_PER_SOURCE * sources, 64)))
-            self._use(min(wanted, self.max_cells))
-        if self.mirror:
-            self.pos = np.concatenate([x, self.mirror_axis - x])
-            self.a = np.concatenate([a, a])
-            self.owner = np.concatenate([np.arange(n), np.arange(n)]).astype(np.int64)
-            self.ez_src = np.concatenate([ez, ez])
-        else:
-            self.pos = x.copy()
-            self.a = a.copy()
-            self.owner = np.arange(n, dtype=np.int64)
-            self.ez_src = ez.copy()
-        self.pos = np.mod(self.pos, self.period)
-        self.ez = ez
-        largest = float(a.max()) if a.size else 0.0
-        near = min(max(NEAR_CELLS * self.h, NEAR_WIDTHS * largest), 0.25 * self.period)
-        self.start, self.src, self.coef = _near_pairs(
-            self.pos,
-            self.a,
-            n,
-            self.owner,
-            self.period,
-            self.cells,
-            near,
-            self.mesh_green,
-            self.c,
-            self.nodes,
-            self.weights,
-        )
-
-    def displacement(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
-        """w_i: vertical displacement at every contact (own far part included) from loads P."""
-        return self._apply(load, 0.0, np.ones(self.n))
-
-    def apply(self, load: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Total compliance C P = 2c P + e_z w(P) (SAD's local law plus the coupling)."""
-        return self._apply(load, 2.0 * self.c, self.ez)
-
-    def _apply(
-        self, load: NDArray[np.float64], local: float, ez: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        q, rho = _spread(load, self.owner, self.ez_src, self.pos, self.cells, self.h)
-        phi = np.asarray(sfft.irfft(self.spectrum * sfft.rfft(rho), self.cells), dtype=np.float64)
-        self.phi = phi
-        return _collect(
-            phi, self.pos, self.n, self.h, self.start, self.src, self.coef, q, load, ez, local
-        )
-
-
 @numba.njit(cache=True, nogil=True)
 def _spread(
     load: NDArray[np.float64],
@@ -466,58 +371,3 @@ def _pk_update(
         for i in range(p.size):
             cp[i] -= tau * r[i]
     return conjugate, linear
-
-
-def _pk_solve(
-    op: _Operator, delta: NDArray[np.float64], load: NDArray[np.float64], tol: float
-) -> tuple[NDArray[np.float64], int]:
-    """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
-
-    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
-    incrementally while the loaded set does not change, and recomputed before convergence is
-    declared.
-    """
-    scale = float(delta.max())
-    if scale <= 0.0:
-        return np.zeros_like(delta), 0
-    p = np.clip(load, 0.0, None)
-    t = np.zeros_like(p)
-    h = np.empty_like(p)
-    g_norm_old = 0.0
-    conjugate = False
-    self_part = np.maximum(op.c * (np.log(op.period / (np.pi * op.a[: op.n])) - 1.5), 0.0)
-    fallback = float(1.0 / np.max(2.0 * op.c + op.ez**2 * self_part))
-    cp = op.apply(p)
-    exact = True
-    residual = math.inf
-    for iteration in range(_MAX_INNER + 1):
-        residual, any_loaded, g_norm = _pk_direction(
-            p, cp, delta, h, t, conjugate, g_norm_old, scale
-        )
-        if residual <= tol:
-            if exact:
-                return p, iteration
-            cp = op.apply(p)
-            exact = True
-            continue
-        if not any_loaded:
-            # nothing loaded: exact line search along the overlap −h
-            d = np.clip(-h, 0.0, None)
-            cd = op.apply(d)
-            curvature = float(d @ cd)
-            step = float(d @ d) / curvature if curvature > 0.0 else fallback
-            p = step * d
-            conjugate = False
-            cp = op.apply(p)
-            exact = True
-            continue
-        g_norm_old = g_norm
-        r = op.apply(t)
-        conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
-        if not linear:
-            cp = op.apply(p)
-        exact = not linear
-    raise NoConvergenceError(
-        f"the interacting contact solve did not converge in {_MAX_INNER} iterations (residual "
-        f"{residual:.3g} > tol {tol:.3g}); raise tol or use more steps"
-    )

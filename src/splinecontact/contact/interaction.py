@@ -66,12 +66,12 @@ from ..spline import SplineFit
 from .geometry import ContactGeometry, contact_geometry
 from .halfplane import (
     NEAR_CELLS,
-    _Operator,
+    _quadrature,
     pair_coefficient,
     periodic_green,
     self_coefficient,
 )
-from .punch import _Widths
+from .punch import _punch_quadrature
 
 __all__ = [
     "DEFAULT_INTERACTION_TOLERANCE",
@@ -153,22 +153,18 @@ def _accept(
     cell: float,
     point_x: NDArray[np.float64],
     n_active: int,
-    gap0: NDArray[np.float64],
-    kl: NDArray[np.float64],
-    ku: NDArray[np.float64],
-    mx: NDArray[np.float64],
-    mz: NDArray[np.float64],
-    nx: NDArray[np.float64],
-    nz: NDArray[np.float64],
+    columns: tuple,
     dx: float,
-    out_index: NDArray[np.int64],
-    out_delta: NDArray[np.float64],
-    out_ex: NDArray[np.float64],
-    out_ez: NDArray[np.float64],
-    out_reff: NDArray[np.float64],
-    out_offset: NDArray[np.float64],
-    out_offset_z: NDArray[np.float64],
+    out: tuple,
 ) -> int:  # pragma: no cover - compiled
+    """SAD's acceptance (Table 1, eqs. 7–10, eq. 9) of the first ``n_active`` candidates at
+    displacement ``d`` [µm], down to the overlap ``delta_min`` [µm] where the surface has risen
+    (the mesh displacement ``uplift`` [µm] of the previous step, cells of ``cell`` [µm]).
+    ``columns`` = (gap0, κ^l, κ^u, m_x, m_z, n_x, n_z) of the candidates; the accepted ones go
+    to ``out`` = (index, δ, e_x, e_z, R_eff, offset, centre height); returns their number.
+    """
+    gap0, kl, ku, mx, mz, nx, nz = columns
+    out_index, out_delta, out_ex, out_ez, out_reff, out_offset, out_offset_z = out
     half_dx = 0.5 * dx
     count = 0
     for j in range(n_active):
@@ -318,7 +314,10 @@ def interacting_loading(
         isinstance(cells, bool) or not isinstance(cells, int) or cells < 8 or cells & (cells - 1)
     ):
         raise ParameterError(f"mesh_cells must be a power of two ≥ 8, got {cells!r}")
-    op = _Operator(period, cells, e_star, not settings.periodic, n, dx)
+    # the mirror images of the segment [0, (n − 1) dx] lie about its end; the largest mesh has
+    # about one cell per grid node of the mirrored segment
+    mirror_axis = (2 * n - 1) * dx
+    max_cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))))
     floor = 1e-6 * dx
     if isinstance(settings.width_iterations, bool) or not (
         isinstance(settings.width_iterations, int) and 1 <= settings.width_iterations <= 100
@@ -371,8 +370,9 @@ def interacting_loading(
     height_lower = np.asarray(geometry.height_lower)[order]
     point_x = points.astype(np.float64) * dx
     reach = float(gap0[-1]) if gap0.size else 0.0
-    widths = _Widths(slope, dx, e_star, floor)
-    largest_mesh = max(op.max_cells, cells or 0)
+    sines, punch_weights = _punch_quadrature()
+    nodes, node_weights = _quadrature()
+    largest_mesh = max(max_cells, cells or 0)
     cache = mesh_cache(largest_mesh)
     state = np.array([0.0, 0.0, period, 1.0, 0.0])
     field = np.zeros(largest_mesh)
@@ -396,11 +396,9 @@ def interacting_loading(
             first, stop, displacement, gap0, reach, point_x, gap0, *columns, dx, n * dx,
             float(e_star), float(g_star), float(mu0), float(settings.tol), settings.width_tol,
             float(stop_force or 0.0),
-            int(settings.width_iterations), not settings.periodic, op.mirror_axis, period,
-            cells or 0, op.max_cells, slope is not None,
-            dummy if widths.slope is None else widths.slope,
-            dummy if widths.curvature is None else widths.curvature,
-            widths.sines, widths.weights, op.nodes, op.weights, floor, cache, state, field,
+            int(settings.width_iterations), not settings.periodic, mirror_axis, period,
+            cells or 0, max_cells, slope is not None, dummy if slope is None else slope, dummy,
+            sines, punch_weights, nodes, node_weights, floor, cache, state, field,
             *per_contact, last_j, idx, *scratch, sums, counts,
         )  # fmt: skip
         if failed >= 0:

@@ -5,11 +5,10 @@ acceptance, the warm start, the outer width loop, the particle–mesh operator (
 convolution on the mesh, near-field corrections), the constrained conjugate gradients of
 Polonsky & Keer (Wear 231 (1999) 206–219) at contact level, the punch widths, the tangential
 springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without returning to Python.
-It is the same algorithm as the Python-driven :class:`.halfplane._Operator` and
-:func:`.halfplane._pk_solve` (kept as the readable reference); results agree to rounding.
 
-The mesh convolution uses a radix-2 complex FFT of the (power-of-two) mesh written here; the
-kernels of every mesh size are computed on first use and cached in a typed list.
+The mesh convolution is the package's compiled real-FFT circulant product
+(:func:`splinecontact._fft.circulant`); the mesh kernel and the transform's tables of every
+mesh size are computed on first use and cached in a typed list.
 """
 
 from __future__ import annotations
@@ -18,10 +17,10 @@ import math
 
 import numba
 import numpy as np
-import scipy.fft as sfft
 from numba.typed import List
 from numpy.typing import NDArray
 
+from .._fft import CirculantConvolution, circulant
 from .halfplane import (
     CELLS_PER_SOURCE,
     NEAR_CELLS,
@@ -40,11 +39,13 @@ __all__ = ["mesh_cache", "run_steps"]
 
 _QUARTER_PI = 0.25 * math.pi
 
-#: Conjugate-gradient iterations per solve (as :mod:`.halfplane`).
+#: Conjugate-gradient iterations per solve.
 _MAX_INNER = 10_000
 
-#: Entries per mesh level in the kernel cache: mesh kernel, its spectrum.
-_PER_LEVEL = 2
+#: Entries per mesh level in the kernel cache: the mesh kernel, then the arrays of the compiled
+#: circulant product on the mesh (:attr:`splinecontact._fft.CirculantConvolution.arguments`,
+#: its two integer sizes stored as one array).
+_PER_LEVEL = 17
 
 #: Smallest mesh: 2**_MIN_LEVEL cells.
 _MIN_LEVEL = 6
@@ -59,61 +60,73 @@ def mesh_cache(max_cells: int) -> List:
     return cache
 
 
+def _mesh_level(
+    cells: int, period: float, e_star: float
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The arrays of one cache level, concatenated, and their offsets (``_PER_LEVEL`` + 1)."""
+    green = mesh_kernel(cells, period, e_star)
+    # the mesh kernel is real and even, so its spectrum is real
+    product = CirculantConvolution(np.ascontiguousarray(np.fft.rfft(green).real), cells)
+    parts = [green]
+    for value in product.arguments:
+        if isinstance(value, np.ndarray):
+            parts.append(value)
+        elif len(parts) == 8:  # n1 (n2 follows): one array of both
+            parts.append(np.array([product.n1, product.n2], dtype=np.float64))
+    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([part.size for part in parts])
+    return np.concatenate(parts).astype(np.float64), offsets
+
+
 @numba.njit(cache=True)
 def _level(cache, cells: int, period: float, e_star: float) -> int:  # pragma: no cover
     """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
 
     The mesh kernel is the periodic Green function at the cell offsets minus the mean
-    smoothing h²/6 · G″ of linear spreading and reading (as :class:`.halfplane._Operator`).
+    smoothing h²/6 · G″ of linear spreading and reading (:func:`.halfplane.mesh_kernel`).
     """
     level = 0
     while (1 << level) < cells:
         level += 1
     base = level * _PER_LEVEL
     if cache[base].size == 0:
-        with numba.objmode(green="float64[::1]", spectrum="float64[::1]"):
-            green = mesh_kernel(cells, period, e_star)
-            spectrum = np.ascontiguousarray(sfft.rfft(green)).view(np.float64)
-        cache[base] = green
-        cache[base + 1] = spectrum
+        with numba.objmode(flat="float64[::1]", offsets="int64[::1]"):
+            flat, offsets = _mesh_level(cells, period, e_star)
+        for k in range(_PER_LEVEL):
+            cache[base + k] = flat[offsets[k] : offsets[k + 1]]
     return base
 
 
 @numba.njit(cache=True)
 def _convolve(
-    rho: NDArray[np.float64], spectrum: NDArray[np.float64]
-) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Periodic convolution of the mesh loads with the mesh kernel (its rfft ``spectrum``,
-    stored as interleaved real and imaginary parts), by scipy's real FFT."""
-    n = rho.size
-    with numba.objmode(phi="float64[::1]"):
-        phi = np.asarray(
-            sfft.irfft(spectrum.view(np.complex128) * sfft.rfft(rho), n), dtype=np.float64
-        )
+    cache, base: int, rho: NDArray[np.float64]
+) -> NDArray[np.float64]:  # pragma: no cover
+    """Periodic convolution of the mesh loads with the mesh kernel (compiled real FFT)."""
+    phi = np.empty(rho.size)
+    dims = cache[base + 8]
+    circulant(
+        rho, phi, cache[base + 1], cache[base + 2], cache[base + 3], cache[base + 4],
+        cache[base + 5], cache[base + 6], cache[base + 7], int(dims[0]), int(dims[1]),
+        cache[base + 9], cache[base + 10], cache[base + 11], cache[base + 12],
+        cache[base + 13], cache[base + 14], cache[base + 15], cache[base + 16],
+    )  # fmt: skip
     return phi
 
 
 @numba.njit(cache=True)
 def _apply(
-    cache,
-    base: int,
-    load: NDArray[np.float64],
-    local: float,
-    ez: NDArray[np.float64],
-    pos: NDArray[np.float64],
-    owner: NDArray[np.int64],
-    ez_src: NDArray[np.float64],
-    n: int,
-    h: float,
-    start: NDArray[np.int64],
-    src: NDArray[np.int64],
-    coef: NDArray[np.float64],
+    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """(local·P + e_z w(P) at the contacts, the mesh displacement)."""
+    """(local·P + e_z w(P) at the contacts, the mesh displacement).
+
+    ``op`` = (source positions [µm], their contacts, their e_z, mesh spacing [µm], near-pair
+    CSR start, sources and corrections) of the step.
+    """
+    pos, owner, ez_src, h, start, src, coef = op
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
-    phi = _convolve(rho, cache[base + 1])
-    u = _collect(phi, pos, n, h, start, src, coef, q, load, ez, local)
+    phi = _convolve(cache, base, rho)
+    u = _collect(phi, pos, load.size, h, start, src, coef, q, load, ez, local)
     return u, phi
 
 
@@ -128,19 +141,16 @@ def _pk_solve(
     a: NDArray[np.float64],
     period: float,
     c: float,
-    pos: NDArray[np.float64],
-    owner: NDArray[np.int64],
-    ez_src: NDArray[np.float64],
-    h_mesh: float,
-    start: NDArray[np.int64],
-    src: NDArray[np.int64],
-    coef: NDArray[np.float64],
+    op: tuple,
 ) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
-    """Constrained conjugate gradients at contact level (as :func:`.halfplane._pk_solve`).
+    """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
 
-    Returns (P, iterations, residual, mesh displacement of P); iterations −1 when the solve
-    did not converge. A converged P was the last load the operator was applied to, so the mesh
-    displacement of that application is the surface displacement of the step.
+    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
+    incrementally while the loaded set does not change, and recomputed before convergence is
+    declared (``op`` as :func:`_apply`). Returns (P, iterations, residual, mesh displacement
+    of P); iterations −1 when the solve did not converge. A converged P was the last load the
+    operator was applied to, so the mesh displacement of that application is the surface
+    displacement of the step.
     """
     n = delta.size
     scale = delta.max()
@@ -157,7 +167,7 @@ def _pk_solve(
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, phi = _apply(cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+    cp, phi = _apply(cache, base, p, local, ez, op)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -167,32 +177,24 @@ def _pk_solve(
         if residual <= tol:
             if exact:
                 return p, iteration, residual, phi
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
             exact = True
             continue
         if not any_loaded:
             d = np.maximum(-h, 0.0)
-            cd, _ = _apply(
-                cache, base, d, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cd, _ = _apply(cache, base, d, local, ez, op)
             curvature = np.dot(d, cd)
             step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
             exact = True
             continue
         g_norm_old = g_norm
-        r, _ = _apply(cache, base, t, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef)
+        r, _ = _apply(cache, base, t, local, ez, op)
         conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
         if not linear:
-            cp, phi = _apply(
-                cache, base, p, local, ez, pos, owner, ez_src, n, h_mesh, start, src, coef
-            )
+            cp, phi = _apply(cache, base, p, local, ez, op)
         exact = not linear
     return p, -1, residual, phi
 
@@ -299,7 +301,8 @@ def run_steps(
     contacts, tilted contacts, patches, CG iterations, reach exceeded. The loop ends after the
     first step whose normal force reaches ``stop_force`` [mN/µm] (> 0; 0: never). Returns
     (count of the last step's accepted contacts, step that failed to converge or −1, its
-    residual, the step at which ``stop_force`` was reached or −1).
+    residual, the step at which ``stop_force`` was reached or −1). ``curvature`` is not read
+    (the punch widths differentiate the interpolated ``slope``); it keeps the argument list.
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -316,8 +319,8 @@ def run_steps(
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
         count = _accept(
-            d, -margin, field[:field_n], field_cell, point_x, n_active, gap0, kl, ku, mx, mz,
-            nx, nz, dx, idx, delta, ex, ez, reff, offset, offset_z,
+            d, -margin, field[:field_n], field_cell, point_x, n_active,
+            (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
         )  # fmt: skip
         j = idx[:count].copy()
         previous = np.empty(count)
@@ -404,10 +407,10 @@ def run_steps(
             start, src, coef = _near_pairs(
                 pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
             )
+            op = (pos, owner, ez_src, h_mesh, start, src, coef)
             load, iterations, residual, phi = _pk_solve(
-                cache, base, dl, load, tol, e_z, a, period, c0, pos, owner, ez_src, h_mesh,
-                start, src, coef,
-            )  # fmt: skip
+                cache, base, dl, load, tol, e_z, a, period, c0, op
+            )
             if iterations < 0:
                 return count, step, residual, -1
             total += iterations
@@ -418,7 +421,7 @@ def run_steps(
                 for s in range(sources):
                     src_q[s] = ez_src[s] * load[owner[s]]
                 b, c_new = _profile_widths(
-                    load, a_new, x, a, cc, slope, curvature, dx, e_star, sines, weights,
+                    load, a_new, x, a, cc, slope, dx, e_star, sines, weights,
                     start, src, pos, a_src, src_q, period,
                 )  # fmt: skip
                 a_new = np.maximum(b, floor)

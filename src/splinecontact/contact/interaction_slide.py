@@ -15,7 +15,7 @@ configuration (u_T, δ_N) of the upper body:
   widths get at least ``WIDTH_ITERATIONS`` updates per displacement-controlled step, the
   settings' own number in force-controlled steps.
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
-  (:func:`.path_kernel._migrate`: a contact continues the nearest vanished contact within
+  (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
   old and new tangents, and the Coulomb cap μ0 P_i with P_i the coupled normal load.
 * **Force control**: δ_N is solved at every step so that the coupled F_N meets the target
@@ -46,6 +46,8 @@ from ..errors import LoadPathError, NoConvergenceError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
+from ._culling import sphere_ready
+from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
 from .interaction import InteractionSettings, interacting_loading
 from .laws import spring_sums
@@ -53,7 +55,6 @@ from .loadpath import _prepare, _solve_force
 from .path_kernel import (
     Scratch,
     Springs,
-    _migrate,
     _rigid_gap,
     _upper_slopes,
     _upper_sphere,
@@ -98,6 +99,7 @@ def _shifted_columns(
             continue
         s1, s2 = _upper_slopes(surf, k, t)
         k_u, m_x, m_z = _upper_sphere(s1, s2, surf.kappa_max)
+        sphere_ready(surf, i)  # the lower sphere, evaluated on first use
         out[0, count] = i
         out[1, count] = g0
         out[2, count] = surf.kappa_l[i]
@@ -128,7 +130,7 @@ def _spring_step(
 ) -> tuple[float, float, float, float, float, int, int, float]:  # pragma: no cover - compiled
     """Eqs. 11–13 on the ``n_c`` loaded contacts in ``scratch`` (grid order; ``fn`` the coupled
     loads, ``width`` the half-widths): the springs migrate as in the non-interacting path
-    (:func:`.path_kernel._migrate`), the Coulomb cap is μ0 times the coupled load. Returns the
+    (:func:`._migration.migrate`), the Coulomb cap is μ0 times the coupled load. Returns the
     sums of :func:`.geometry.add_contact_forces`, the slipping contacts and the work
     dissipated in the step [mN·µm/µm]; with ``commit`` the springs are replaced."""
     _migrate(springs.acc.size, n_c, migrate_cells, springs, scratch)

@@ -234,7 +234,9 @@ def run_loading(
         geometry.gap0, geometry.curvature_lower, geometry.curvature_upper,
         geometry.m_x, geometry.m_z, geometry.n_x, geometry.n_z, geometry.point,
         geometry.first_step_index, geometry.displacement, geometry.dx,
-        kernel_material(law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n_points),
+        kernel_material(
+            law, e_star=e_star, g_star=g_star, mu0=mu0, n_points=n_points, hertz_alone=True
+        ),
         record, capacity,
     )  # fmt: skip
     curves: dict[str, NDArray[Any]] = {

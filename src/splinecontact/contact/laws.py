@@ -32,6 +32,8 @@ from typing import Any, ClassVar, NamedTuple, Protocol, runtime_checkable
 
 import numba
 import numpy as np
+from numba.core import types
+from numba.extending import overload
 from numpy.typing import NDArray
 
 from ..errors import ContactLawError, ParameterError, UnknownContactLawError
@@ -222,8 +224,11 @@ class Material(NamedTuple):
     ----------
     law_code : int
         :attr:`ContactLaw.code`.
-    law_params : ndarray
-        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``.
+    law_params : ndarray or tuple
+        :meth:`ContactLaw.kernel_parameters`: ``[E* [GPa], *law parameters]``, or for Hertz
+        the 1-tuple ``(E*,)`` (``hertz_alone`` of :func:`kernel_material`), a type of its own,
+        so that a kernel running Hertz compiles Hertz alone (the other laws' code is typed,
+        hence compiled, only for an array).
     law_state : ndarray
         History state, shape (n lower grid points, :attr:`ContactLaw.n_state`); persists across
         the steps of a run (and across separation).
@@ -236,7 +241,7 @@ class Material(NamedTuple):
     """
 
     law_code: int
-    law_params: NDArray[np.float64]
+    law_params: NDArray[np.float64] | tuple[float]
     law_state: NDArray[np.float64]
     reach: float
     g_star: float
@@ -244,13 +249,26 @@ class Material(NamedTuple):
 
 
 def kernel_material(
-    law: ContactLaw, *, e_star: float, g_star: float, mu0: float, n_points: int
+    law: ContactLaw,
+    *,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    n_points: int,
+    hertz_alone: bool = False,
 ) -> Material:
     """The kernels' view of ``law`` with E* [GPa], G* [GPa], μ0 [1], and a fresh zero state for
-    ``n_points`` lower grid points."""
+    ``n_points`` lower grid points.
+
+    With ``hertz_alone``, Hertz's parameters are the 1-tuple ``(E*,)``: a kernel typed with it
+    compiles Hertz alone (the monotone loading loop uses it: a Hertz run does not compile the
+    other laws). Without it they are an array, as for every other law, so a kernel has one
+    compiled form for all laws (the load-path kernel, whose own compilation is the larger).
+    """
+    params = law.kernel_parameters(e_star)
     return Material(
         law_code=law.code,
-        law_params=law.kernel_parameters(e_star),
+        law_params=(float(params[0]),) if hertz_alone and law.code == HERTZ else params,
         law_state=new_law_state(law, n_points),
         reach=float(law.reach),
         g_star=float(g_star),
@@ -258,10 +276,73 @@ def kernel_material(
     )
 
 
+# What one evaluation of a law does with the contact's history (the ``mode`` of _evaluate).
+_TRIAL = 0  # normal_law: no history changed (memos only)
+_FUSED = 1  # law_step: evaluate and commit at once
+_COMMIT = 2  # commit_law: update the history (reusing the trial's memo where there is one)
+
+
+def _evaluate_hertz(
+    code: int, params: tuple[float], delta: float, r_eff: float, state: Any, point: int, mode: int
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    if mode == _COMMIT:
+        return 0.0, 0.0  # no history
+    return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+
+
+def _evaluate(
+    code: int,
+    params: Any,
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+    mode: int,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    # Compiled only (numba), in two forms chosen by the type of ``params`` (below).
+    if code == HERTZ or code == _DMT:
+        if mode == _COMMIT:
+            return 0.0, 0.0  # no history
+        if code == HERTZ:
+            return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
+        return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
+    if mode == _COMMIT:
+        if (
+            code == _JKR
+            and state.shape[1] >= 5
+            and state[point, 1] == delta
+            and state[point, 2] == r_eff
+            and state[point, 3] == state[point, 0]
+        ):
+            state[point, 0] = state[point, 4]  # this δ, R_eff and branch were just evaluated
+            return 0.0, 0.0
+        if code == _MD and state[point, 5] == delta and state[point, 6] == r_eff:
+            # the trial evaluation of this step (same δ and R_eff, same committed state) is kept
+            state[point, 0] = state[point, 7]
+            state[point, 1] = state[point, 8]
+            return 0.0, 0.0
+    out = _history_law(code, params, delta, r_eff, state, point)
+    if mode != _TRIAL:
+        _store(state, point, out)
+    elif code == _JKR and state.shape[1] >= 5:
+        # Memo of a pure function of (δ, R_eff, branch): commit_law reuses it.
+        state[point, 1] = out[3]
+        state[point, 2] = out[4]
+        state[point, 3] = out[5]
+        state[point, 4] = out[6]
+    return out[0], out[1]
+
+
+@overload(_evaluate, jit_options={"nogil": True}, strict=False)
+def _evaluate_typed(code: Any, params: Any, *rest: Any) -> Any:
+    # Chosen when a kernel is typed: Hertz's 1-tuple of parameters compiles Hertz alone.
+    return _evaluate_hertz if isinstance(params, types.BaseTuple) else _evaluate
+
+
 @numba.njit(cache=True, nogil=True)
 def normal_law(
     code: int,
-    params: NDArray[np.float64],
+    params: NDArray[np.float64] | tuple[float],
     delta: float,
     r_eff: float,
     state: NDArray[np.float64],
@@ -273,8 +354,8 @@ def normal_law(
     ----------
     code : int
         The law's dispatch code (:data:`HERTZ`).
-    params : ndarray
-        ``[E* [GPa], *law parameters]``.
+    params : ndarray or tuple
+        ``[E* [GPa], *law parameters]`` (:attr:`Material.law_params`).
     delta : float
         Overlap of the surface spheres [µm] (> −reach).
     r_eff : float
@@ -284,18 +365,33 @@ def normal_law(
     point : int
         Lower-body grid index of the contact.
     """
-    if code == HERTZ:
-        return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
-    if code == _DMT:
-        return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
-    out = _history_law(code, params, delta, r_eff, state, point)
-    if code == _JKR and state.shape[1] >= 5:
-        # Memo of a pure function of (δ, R_eff, branch): commit_law reuses it.
-        state[point, 1] = out[3]
-        state[point, 2] = out[4]
-        state[point, 3] = out[5]
-        state[point, 4] = out[6]
-    return out[0], out[1]
+    return _evaluate(code, params, delta, r_eff, state, point, _TRIAL)
+
+
+@numba.njit(cache=True, nogil=True)
+def law_step(
+    code: int,
+    params: NDArray[np.float64] | tuple[float],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """:func:`normal_law` and :func:`commit_law` in one evaluation (the monotone loading loop)."""
+    return _evaluate(code, params, delta, r_eff, state, point, _FUSED)
+
+
+@numba.njit(cache=True, nogil=True)
+def commit_law(
+    code: int,
+    params: NDArray[np.float64] | tuple[float],
+    delta: float,
+    r_eff: float,
+    state: NDArray[np.float64],
+    point: int,
+) -> None:  # pragma: no cover - compiled
+    """Update the history ``state[point]`` of an accepted contact when its step is committed."""
+    _evaluate(code, params, delta, r_eff, state, point, _COMMIT)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -319,25 +415,6 @@ def _history_law(
         delta, r_eff, e_star, params[1], params[2], params[3], state[point]
     )
     return f, width, d_max, f_max, b_max, 0.0, 0.0
-
-
-@numba.njit(cache=True, nogil=True)
-def law_step(
-    code: int,
-    params: NDArray[np.float64],
-    delta: float,
-    r_eff: float,
-    state: NDArray[np.float64],
-    point: int,
-) -> tuple[float, float]:  # pragma: no cover - compiled
-    """:func:`normal_law` and :func:`commit_law` in one evaluation (the monotone loading loop)."""
-    if code == HERTZ:
-        return _QUARTER_PI * params[0] * delta, math.sqrt(delta * r_eff)
-    if code == _DMT:
-        return dmt_evaluate(delta, r_eff, params[0], params[1], params[2])
-    out = _history_law(code, params, delta, r_eff, state, point)
-    _store(state, point, out)
-    return out[0], out[1]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -368,35 +445,6 @@ def _store(
         state[point, 3] = out[5]
     if n > 4:
         state[point, 4] = out[6]
-
-
-@numba.njit(cache=True, nogil=True)
-def commit_law(
-    code: int,
-    params: NDArray[np.float64],
-    delta: float,
-    r_eff: float,
-    state: NDArray[np.float64],
-    point: int,
-) -> None:  # pragma: no cover - compiled
-    """Update the history ``state[point]`` of an accepted contact when its step is committed."""
-    if code == HERTZ or code == _DMT:
-        return  # no history
-    if (
-        code == _JKR
-        and state.shape[1] >= 5
-        and state[point, 1] == delta
-        and state[point, 2] == r_eff
-        and state[point, 3] == state[point, 0]
-    ):
-        state[point, 0] = state[point, 4]  # this δ, R_eff and branch were just evaluated
-        return
-    if code == _MD and state[point, 5] == delta and state[point, 6] == r_eff:
-        # the trial evaluation of this step (same δ and R_eff, same committed state) is kept
-        state[point, 0] = state[point, 7]
-        state[point, 1] = state[point, 8]
-        return
-    _store(state, point, _history_law(code, params, delta, r_eff, state, point))
 
 
 @numba.njit(cache=True, nogil=True)

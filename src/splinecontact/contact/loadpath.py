@@ -32,7 +32,7 @@ from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
-from ._culling import own_frame_arrays
+from ._culling import SPHERE_BLOCK
 from ._path_run import run_steps
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
@@ -145,11 +145,7 @@ class _Candidates:
 def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geometry:
     dx = lower.dx
     r_min = 0.5 * dx
-    kappa_l, nl_x, nl_z = own_frame_arrays(
-        np.ascontiguousarray(fit_l.slope, dtype=np.float64),
-        np.ascontiguousarray(fit_l.second_derivative, dtype=np.float64),
-        r_min,
-    )
+    n = fit_l.f.size
     flat = fit_u is None
     f_l = np.ascontiguousarray(fit_l.f, dtype=np.float64)
     if fit_u is None:
@@ -178,9 +174,9 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
     envelope_block = _k.block_max(envelope_sub, _BLOCK // _SUB)
     surf = _k.Surfaces(
         f_l=f_l,
-        kappa_l=kappa_l,
-        nl_x=nl_x,
-        nl_z=nl_z,
+        kappa_l=np.empty(n),  # lazily evaluated (_culling.fill_spheres)
+        nl_x=np.empty(n),
+        nl_z=np.empty(n),
         f_u=f_u,
         gamma_u=gamma_u,
         slope_u=slope_u,
@@ -189,6 +185,9 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         placement=placement,
         dx=dx,
         kappa_max=1.0 / r_min,
+        slope_l=np.ascontiguousarray(fit_l.slope, dtype=np.float64),
+        curv_l=np.ascontiguousarray(fit_l.second_derivative, dtype=np.float64),
+        sphere_done=np.zeros((n + SPHERE_BLOCK - 1) // SPHERE_BLOCK, dtype=np.uint8),
     )
     cull = _k.Culling(
         f_l_block=f_l_block,

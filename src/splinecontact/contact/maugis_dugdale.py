@@ -180,34 +180,13 @@ def md_noncontact(
 
 
 @numba.njit(cache=True, nogil=True)
-def _md_of_t(
+def _md_branch_point(
     t: float, r_eff: float, e_star: float, w: float, sigma0: float
-) -> tuple[float, float, float]:
+) -> tuple[float, float, float, float, float, float, float, float, float, float]:
     # The contact branch parametrized by t = √(c² − b²)/b: (MD-h) is a quadratic in b, so
     # b(t), δ(t) and P(t) are closed forms (no nested solve). b decreases as t grows.
-    r = 0.5 * r_eff
-    a_k = 4.0 * sigma0 / (_PI * e_star)
-    h0 = w / sigma0
-    m = math.sqrt(1.0 + t * t)
-    log_m = 0.5 * math.log1p(t * t)
-    asinh_t = math.asinh(t)
-    big_a = _mt_minus_asinh_of(t, m, asinh_t) / (2.0 * r)
-    big_b = a_k * (t * asinh_t - m * log_m)
-    b = 2.0 * h0 / (big_b + math.sqrt(big_b * big_b + 4.0 * big_a * h0))
-    delta = b * b / r + a_k * b * (m * asinh_t - t * (2.5 + log_m))
-    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
-    return b, delta, force
-
-
-@numba.njit(cache=True, nogil=True)
-def _md_of_t_d(
-    t: float, r_eff: float, e_star: float, w: float, sigma0: float
-) -> tuple[float, float, float, float]:
-    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
-    # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
-    # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
-    # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
-    # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
+    # Returns (b, δ, P) and what the derivative reuses: R, a_k, m, ln m, asinh t,
+    # √(B² + 4A h0) and g = m asinh t − t (5/2 + ln m) (δ = b²/R + a_k b g).
     r = 0.5 * r_eff
     a_k = 4.0 * sigma0 / (_PI * e_star)
     h0 = w / sigma0
@@ -221,6 +200,30 @@ def _md_of_t_d(
     g = m * asinh_t - t * (2.5 + log_m)
     delta = b * b / r + a_k * b * g
     force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+    return b, delta, force, r, a_k, m, log_m, asinh_t, root, g
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_of_t(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float]:
+    # (b, δ, P) on the contact branch at t.
+    point = _md_branch_point(t, r_eff, e_star, w, sigma0)
+    return point[0], point[1], point[2]
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_of_t_d(
+    t: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float, float, float]:
+    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
+    # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
+    # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
+    # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
+    # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
+    b, delta, force, r, a_k, m, log_m, asinh_t, root, g = _md_branch_point(
+        t, r_eff, e_star, w, sigma0
+    )
     d_a = t * t / (m * r)
     d_b = a_k * (asinh_t - t / m * log_m)
     d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
@@ -412,26 +415,9 @@ def _md_evaluate(
     sigma0: float,
     state: NDArray[np.float64],
 ) -> tuple[float, float, float, float, float, float, float, float]:
-    """One Maugis–Dugdale contact under displacement control.
-
-    Parameters
-    ----------
-    delta : float
-        Overlap of the undeformed surface spheres δ [µm] (eq. 10; < 0 at a gap).
-    r_eff, e_star, w, sigma0 : float
-        R_eff [µm], E* [GPa], work of adhesion [mN/µm], Dugdale stress [GPa].
-    state : ndarray
-        The contact's :data:`N_STATE` values (branch, t = √(c² − b²)/b of the last step, cached
-        R_eff, t and δ of the fold). Only the fold memo (the last three, a function of R_eff
-        alone) is written here; the caller stores the returned branch and t when the step is
-        committed.
-
-    Returns
-    -------
-    (force, width, branch, t, r_cached, t_fold, delta_fold, slope)
-        Force [mN/µm], width √2·b [µm], the new state values and dδ/d ln t [µm] at t (0 when
-        not known).
-    """
+    """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
+    (state columns 2–4, a function of R_eff alone) and returns, after md_evaluate's seven
+    values, dδ/d ln t [µm] at t (0 when not known), the slope the next Newton start uses."""
     if w == 0.0:
         if delta > 0.0:
             return (

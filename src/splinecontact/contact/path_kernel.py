@@ -31,10 +31,11 @@ from ._culling import (
     _may_touch,
     block_max,
     candidate_bounds,
-    first_at_least,
     interval_envelope,
     sliding_flags,
+    sphere_ready,
 )
+from ._migration import migrate as _migrate
 from .geometry import contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, spring_sums
 
@@ -177,7 +178,11 @@ def _upper_sphere(
 def _pack(
     scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
 ) -> None:  # pragma: no cover - compiled
-    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q."""
+    """Store closed point i (gap g, upper S′ s1 and S″ s2) as packed entry q.
+
+    Its lower sphere must have been evaluated (:func:`._culling.sphere_ready`): not tested
+    here, where a call, even one not taken, would slow the sliding step's packing threefold.
+    """
     scratch.cl_i[q] = i
     scratch.cl_g[q] = g
     scratch.cl_s1[q] = s1
@@ -254,91 +259,6 @@ def _filter_closed(
 
 
 @numba.njit(cache=True, nogil=True)
-def _migrate(
-    n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch
-) -> None:  # pragma: no cover - compiled
-    """Which committed contact each accepted contact continues (``scratch.src``).
-
-    The same cell continues its contact. Every other accepted contact may continue a vanished
-    (not accepted again in its own cell) previous contact within ``migrate_cells`` cells; the
-    pairs are assigned greedily by increasing distance between the previous and the new centre
-    (independent of the visiting order, hence mirror symmetric).
-    """
-    claimed = springs.claimed
-    c_idx = scratch.idx
-    c_src = scratch.src
-    n_old = springs.n_committed[0]
-    cells = springs.cells[:n_old]  # ascending
-    for c in range(n_c):
-        c_src[c] = -1
-        i = c_idx[c]
-        p = first_at_least(cells, n_old, i)
-        if p < n_old and cells[p] == i:
-            c_src[c] = p
-            claimed[p] = True
-    # The vanished previous contacts (not continued in their own cell), in grid order: the
-    # candidates of a contact are found by bisection instead of visiting its 2·migrate_cells
-    # neighbours, and generated in the same order (by |q − i|, then the left one first).
-    vanished = np.empty(n_old, dtype=np.int64)  # their cells
-    slot = np.empty(n_old, dtype=np.int64)
-    n_v = 0
-    for p in range(n_old):
-        if not claimed[p]:
-            vanished[n_v] = cells[p]
-            slot[n_v] = p
-            n_v += 1
-    vanished = vanished[:n_v]
-    first = np.empty(n_c, dtype=np.int64)  # first vanished cell ≥ i − migrate_cells
-    n_pairs = 0
-    for c in range(n_c):
-        if c_src[c] >= 0:
-            continue
-        i = c_idx[c]
-        lo = first_at_least(vanished, n_v, i - migrate_cells)
-        hi = first_at_least(vanished, n_v, i + migrate_cells + 1)
-        first[c] = lo
-        n_pairs += hi - lo
-    if n_pairs > 0:
-        pair_c = np.empty(n_pairs, dtype=np.int64)
-        pair_q = np.empty(n_pairs, dtype=np.int64)
-        pair_d = np.empty(n_pairs)
-        p = 0
-        for c in range(n_c):
-            if c_src[c] >= 0:
-                continue
-            i = c_idx[c]
-            mid = first_at_least(vanished, n_v, i)  # vanished[mid − 1] < i ≤ vanished[mid]
-            left = mid - 1
-            right = mid
-            lo = first[c]
-            while True:
-                has_left = left >= lo
-                has_right = right < n_v and vanished[right] - i <= migrate_cells
-                if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
-                    q = slot[left]
-                    left -= 1
-                elif has_right:
-                    q = slot[right]
-                    right += 1
-                else:
-                    break
-                pair_c[p] = c
-                pair_q[p] = q
-                pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
-                p += 1
-        order = np.argsort(pair_d, kind="mergesort")
-        for o in order:
-            c = pair_c[o]
-            q = pair_q[o]
-            if c_src[c] < 0 and not claimed[q]:
-                c_src[c] = q
-                claimed[q] = True
-    for c in range(n_c):
-        if c_src[c] >= 0:
-            claimed[c_src[c]] = False
-
-
-@numba.njit(cache=True, nogil=True)
 def path_step(
     u: float,
     d: float,
@@ -395,6 +315,7 @@ def path_step(
             if g > reach and not (use_fixed and fixed[i]):
                 continue
             s1, s2 = _upper_slopes(surf, k, t)
+            sphere_ready(surf, i)
             _pack(scratch, n_closed, surf, i, g, s1, s2)
             n_closed += 1
         n_packed = n_closed
@@ -525,9 +446,11 @@ def _settle(
             order[:n_c] = np.argsort(idx, kind="mergesort")
         # A contact of the previous step that is not accepted now has let go (laws with a
         # branch state: JKR, Maugis–Dugdale); its plastic history stays.
+        # A law without history state (Hertz, DMT) has nothing to release or commit.
+        history = law_state.shape[1] > 0
         n_old = springs.n_committed[0]
         r = 0
-        for p in range(n_old):
+        for p in range(n_old if history else 0):
             q = springs.cells[p]
             while r < n_c and idx[order[r]] < q:
                 r += 1
@@ -535,13 +458,15 @@ def _settle(
                 release_law(code, law_state, q)
         for r in range(n_c):
             c = order[r]
-            i = idx[c]
-            springs.cells[r] = i
+            springs.cells[r] = idx[c]
             springs.ft[r] = scratch.ft[c]
             springs.xc[r] = scratch.xc[c]
             springs.ex[r] = scratch.ex[c]
             springs.ez[r] = scratch.ez[c]
-            commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, i)
+        if history:
+            for r in range(n_c):
+                c = order[r]
+                commit_law(code, params, scratch.delta[c], scratch.reff[c], law_state, idx[c])
         springs.n_committed[0] = n_c
     return StepSums(
         sums[0], sums[1], sums[2], n_touch, n_slip, work, sums[3], sums[4], sums[5], n_closed
@@ -602,6 +527,7 @@ def _fixed_shift_values(
         out[j, 0] = g0 if inside else np.inf
         out[j, 1] = s1
         out[j, 2] = s2
+        sphere_ready(surf, i)
         out[j, 3] = surf.kappa_l[i]
         out[j, 4] = surf.nl_x[i]
         out[j, 5] = surf.nl_z[i]

@@ -14,7 +14,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from .halfplane import NEAR_WIDTHS, _Operator
+from .halfplane import NEAR_WIDTHS
 
 __all__ = ["MIN_PUNCH_WIDTH", "PUNCH_NODES"]
 
@@ -24,44 +24,22 @@ MIN_PUNCH_WIDTH = 0.5
 #: Gauss–Legendre nodes (in θ, s = b sin θ) of the punch integrals.
 PUNCH_NODES = 16
 
-
-def _hertz_width(
-    load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float
-) -> NDArray[np.float64]:
-    """Hertz half-width a = √(2 P R_eff/(πE*)) = √(δ^eff R_eff/2) [µm], at least ``floor``."""
-    return np.maximum(np.sqrt(2.0 * np.clip(load, 0.0, None) * reff / (math.pi * e_star)), floor)
+#: Most Newton (or bisection) steps of a punch centre, and secant (or bisection) steps of a
+#: punch width, per contact and width update.
+_NEWTON_ITERATIONS = 30
+_SECANT_ITERATIONS = 40
 
 
 @numba.njit(cache=True, nogil=True)
-def _sample(values: NDArray[np.float64], pos: float, dx: float) -> float:  # pragma: no cover
-    """Linear interpolation of a grid array at position ``pos`` [µm]; NaN outside it."""
-    t = pos / dx
-    i0 = math.floor(t)
-    if i0 < 0 or i0 + 1 >= values.size:
-        return math.nan
-    frac = t - i0
-    return values[i0] * (1.0 - frac) + values[i0 + 1] * frac
-
-
-@numba.njit(cache=True, nogil=True)
-def _neighbour_slope(
-    pos: float,
-    first: int,
-    last: int,
-    src: NDArray[np.int64],
-    src_pos: NDArray[np.float64],
-    src_a: NDArray[np.float64],
-    src_q: NDArray[np.float64],
-    own: int,
-    period: float,
-    c0: float,
-    reach: float,
-) -> float:  # pragma: no cover - compiled
+def _neighbour_slope(pos: float, near: tuple, c0: float, reach: float) -> float:  # pragma: no cover
     """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``.
 
-    Neighbours farther than ``reach`` plus NEAR_WIDTHS of their own half-widths only tilt the
-    contact uniformly and are left out.
+    ``near`` = (first, last, src, src_pos, src_a, src_q, own, period): the contact's near
+    sources src[first:last] (positions [µm], half-widths [µm], vertical loads [mN/µm]), its own
+    index and the period [µm]. Neighbours farther than ``reach`` plus NEAR_WIDTHS of their own
+    half-widths only tilt the contact uniformly and are left out.
     """
+    first, last, src, src_pos, src_a, src_q, own, period = near
     total = 0.0
     for k in range(first, last):
         s = src[k]
@@ -85,7 +63,6 @@ def _neighbour_slope(
 @numba.njit(cache=True, nogil=True)
 def _punch(
     slope: NDArray[np.float64],
-    curvature: NDArray[np.float64],
     x: float,
     dx: float,
     b: float,
@@ -93,58 +70,69 @@ def _punch(
     e_star: float,
     sines: NDArray[np.float64],
     weights: NDArray[np.float64],
-    first: int,
-    last: int,
-    src: NDArray[np.int64],
-    src_pos: NDArray[np.float64],
-    src_a: NDArray[np.float64],
-    src_q: NDArray[np.float64],
-    own: int,
-    period: float,
+    near: tuple,
 ) -> tuple[float, float]:  # pragma: no cover - compiled
     """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
 
     The contact [x + c − b, x + c + b] of a rigid profile with gap slope f′ has bounded pressure
-    at both edges when ∫ f′(x + c + s)/√(b² − s²) ds = 0 (solved for c by Newton's method),
-    and then carries P = (E*/2) ∫ s f′(x + c + s)/√(b² − s²) ds (Hertz for a parabola; the
-    plane-strain punch relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with
-    s = b sin θ and Gauss–Legendre nodes in θ. Returns (c, P), NaN beyond the candidates.
+    at both edges when ∫ f′(x + c + s)/√(b² − s²) ds = 0, and then carries
+    P = (E*/2) ∫ s f′(x + c + s)/√(b² − s²) ds (Hertz for a parabola; the plane-strain punch
+    relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with s = b sin θ and
+    Gauss–Legendre nodes in θ; c by a safeguarded secant method (first step: Newton with the
+    exact derivative of the linearly interpolated f′ of the profile; bisection where a step
+    leaves the bracket of the root), P in the same pass. Returns (c, P), NaN beyond the
+    candidates.
     """
     c0 = 2.0 / (math.pi * e_star)
     reach = NEAR_WIDTHS * b
-    for _ in range(20):
+    total = math.nan
+    lo = -math.inf
+    hi = math.inf
+    c_old = i0_old = 0.0
+    for iteration in range(_NEWTON_ITERATIONS):
         i0 = 0.0
         i1 = 0.0
+        total = 0.0
         for k in range(sines.size):
-            pos = x + c + b * sines[k]
-            v = _sample(slope, pos, dx) + _neighbour_slope(
-                pos, first, last, src, src_pos, src_a, src_q, own, period, c0, reach
-            )
-            w = _sample(curvature, pos, dx)
-            if math.isnan(v) or math.isnan(w):
+            s = b * sines[k]
+            pos = x + c + s
+            t = pos / dx
+            j = math.floor(t)
+            if j < 0 or j + 1 >= slope.size:
                 return math.nan, math.nan
+            frac = t - j
+            v = slope[j] * (1.0 - frac) + slope[j + 1] * frac
+            w = (slope[j + 1] - slope[j]) / dx
+            if math.isnan(v):
+                return math.nan, math.nan
+            v += _neighbour_slope(pos, near, c0, reach)
             i0 += weights[k] * v
             i1 += weights[k] * w
-        if i1 <= 0.0:
+            total += weights[k] * s * v
+        # I0 grows with c on a summit: keep the bracket of its root; the slope of I0 is the
+        # profile's (first step) or the secant of the last two steps (it then includes the
+        # neighbours' fields); bisect where a step leaves the bracket
+        if i0 > 0.0:
+            hi = c
+        else:
+            lo = c
+        slope_c = i1
+        if iteration > 0 and c != c_old and i0 != i0_old:
+            slope_c = (i0 - i0_old) / (c - c_old)
+        bracketed = not (math.isinf(lo) or math.isinf(hi))
+        if slope_c > 0.0:
+            dc = min(max(-i0 / slope_c, -0.5 * b), 0.5 * b)
+        elif bracketed:
+            dc = 0.5 * (lo + hi) - c
+        else:
             break
-        dc = -i0 / i1
-        if dc > 0.5 * b:
-            dc = 0.5 * b
-        elif dc < -0.5 * b:
-            dc = -0.5 * b
+        if bracketed and not lo < c + dc < hi:
+            dc = 0.5 * (lo + hi) - c
+        c_old = c
+        i0_old = i0
+        if abs(dc) <= 1e-9 * b or iteration == _NEWTON_ITERATIONS - 1:
+            break
         c += dc
-        if abs(dc) <= 1e-9 * b:
-            break
-    total = 0.0
-    for k in range(sines.size):
-        s = b * sines[k]
-        pos = x + c + s
-        v = _sample(slope, pos, dx) + _neighbour_slope(
-            pos, first, last, src, src_pos, src_a, src_q, own, period, c0, reach
-        )
-        if math.isnan(v):
-            return math.nan, math.nan
-        total += weights[k] * s * v
     return c, 0.5 * e_star * total
 
 
@@ -168,7 +156,6 @@ def _profile_widths(
     b_start: NDArray[np.float64],
     c_start: NDArray[np.float64],
     slope: NDArray[np.float64],
-    curvature: NDArray[np.float64],
     dx: float,
     e_star: float,
     sines: NDArray[np.float64],
@@ -198,27 +185,12 @@ def _profile_widths(
         c = c_start[i]
         b_old = 0.0
         p_old = 0.0
+        b_lo = 0.0
+        b_hi = math.inf
         ok = False
-        for _ in range(40):
-            c, p = _punch(
-                slope,
-                curvature,
-                x[i],
-                dx,
-                b,
-                c,
-                e_star,
-                sines,
-                weights,
-                start[i],
-                start[i + 1],
-                src,
-                src_pos,
-                src_a,
-                src_q,
-                i,
-                period,
-            )
+        for _ in range(_SECANT_ITERATIONS):
+            near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period)
+            c, p = _punch(slope, x[i], dx, b, c, e_star, sines, weights, near)
             if math.isnan(p) or p <= 0.0:
                 break
             if abs(p / target - 1.0) <= 1e-6:
@@ -228,9 +200,16 @@ def _profile_widths(
             if b_old > 0.0 and p_old > 0.0 and b_old != b and p_old != p:
                 m = math.log(p / p_old) / math.log(b / b_old)
                 m = min(max(m, 0.5), 4.0)
+            # P grows with b: keep the bracket of the target, bisect (in log b) outside it
+            if p > target:
+                b_hi = b
+            else:
+                b_lo = b
             b_old = b
             p_old = p
             b = b * (target / p) ** (1.0 / m)
+            if not b_lo < b < b_hi and b_lo > 0.0 and not math.isinf(b_hi):
+                b = math.sqrt(b_lo * b_hi)
         if ok:
             # a punch that reaches over another contact's summit is not this contact's
             # solution (it would bridge the valley between them)
@@ -246,59 +225,7 @@ def _profile_widths(
     return out_b, out_c
 
 
-class _Widths:
-    """Contact half-widths from the loads: Hertz (tip curvature) or the local punch profile."""
-
-    def __init__(
-        self, slope: NDArray[np.float64] | None, dx: float, e_star: float, floor: float
-    ) -> None:
-        self.slope = slope
-        self.curvature = None if slope is None else np.gradient(slope, dx)
-        self.dx = dx
-        self.e_star = e_star
-        self.floor = floor
-        nodes, weights = np.polynomial.legendre.leggauss(PUNCH_NODES)
-        self.sines = np.sin(0.5 * np.pi * nodes)
-        self.weights = 0.5 * np.pi * weights
-
-    def __call__(
-        self,
-        load: NDArray[np.float64],
-        reff: NDArray[np.float64],
-        x: NDArray[np.float64],
-        b_start: NDArray[np.float64],
-        c_start: NDArray[np.float64],
-        op: _Operator | None = None,
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        a = _hertz_width(load, reff, self.e_star, self.floor)
-        if self.slope is None or self.curvature is None:
-            return a, np.zeros_like(a)
-        if op is None:  # no neighbours known yet
-            start = np.zeros(load.size + 1, dtype=np.int64)
-            src = np.zeros(0, dtype=np.int64)
-            src_pos = src_a = src_q = np.zeros(1)
-            period = 1.0
-        else:
-            start, src, src_pos, src_a = op.start, op.src, op.pos, op.a
-            src_q = op.ez_src * load[op.owner]
-            period = op.period
-        b, c = _profile_widths(
-            load,
-            a,
-            x,
-            b_start,
-            c_start,
-            self.slope,
-            self.curvature,
-            self.dx,
-            self.e_star,
-            self.sines,
-            self.weights,
-            start,
-            src,
-            src_pos,
-            src_a,
-            src_q,
-            period,
-        )
-        return np.maximum(b, self.floor), c
+def _punch_quadrature() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Nodes sin θ_k and weights of ∫ f(b sin θ) dθ over [−π/2, π/2] (Gauss–Legendre in θ)."""
+    nodes, weights = np.polynomial.legendre.leggauss(PUNCH_NODES)
+    return np.sin(0.5 * np.pi * nodes), 0.5 * np.pi * weights

@@ -13,10 +13,11 @@ from ..errors import ParameterError
 from ..profile import Profile, surface_statistics
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
-from .geometry import check_bodies, check_positive, contact_geometry
+from ._arguments import MAX_STEPS, check_model_arguments, check_reserved, run_parameters
+from .geometry import check_bodies, contact_geometry
 from .interaction import InteractionSettings
 from .kernel import run_loading
-from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
+from .laws import ContactLaw, Hertz, bind_law, law_record
 from .streamed import STREAM_MIN_POINTS
 
 if TYPE_CHECKING:
@@ -35,9 +36,6 @@ SIMULATION_PARAMETERS = (
     "alpha",
     "x0",
 )
-
-#: Default ceiling on ``steps`` [1] (10⁶; the paper uses 1000). Raise it with ``max_steps=``.
-MAX_STEPS = 1_000_000
 
 #: Most contact slots ``record_contacts`` may reserve (points whose gap has closed, summed over
 #: the recorded steps) [1]: 2·10⁷ slots are 1.6 GB.
@@ -196,22 +194,11 @@ def simulate(
     """
     check_bodies(lower, upper)
     max_steps = check_integer("max_steps", max_steps, minimum=1)
-    steps = check_integer(
-        "steps", steps, minimum=1, maximum=max_steps, note="paper: 1000", raise_with="max_steps"
-    )
-    if final_displacement is not None:
-        check_positive("final_displacement", final_displacement, " µm")
-    check_positive("final_displacement_factor", final_displacement_factor, "")
-    e_star = check_positive("e_star", e_star, " GPa")
-    g_star = (
-        e_star / 2.6
-        if g_star is None
-        else check_positive("g_star", g_star, " GPa", allow_zero=True)
-    )
-    mu0 = check_positive("mu0", mu0, "", allow_zero=True)
-    check_positive("alpha", alpha, "")
-    check_positive("x0", x0, " µm")
-    law = Hertz() if law is None else check_law(law)
+    steps, e_star, g_star, mu0, law = check_model_arguments(
+        steps=steps, final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0, law=law, max_steps=max_steps, raise_with="max_steps",
+    )  # fmt: skip
     if interaction is not False:
         settings = _interaction_settings(interaction, path, law)
     fits = None
@@ -259,14 +246,7 @@ def simulate(
         final_displacement_factor=final_displacement_factor, alpha=alpha, x0=x0,
         fits=(fit_l, fit_u), reach=law.reach,
     )  # fmt: skip
-    if record_steps.size:
-        reserved = int(geometry.first_step_index[record_steps].sum())
-        if reserved > MAX_RECORDED_CONTACTS:
-            raise ParameterError(
-                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
-                f"closed, summed over {record_steps.size} recorded steps), above "
-                f"{MAX_RECORDED_CONTACTS}; record fewer steps"
-            )
+    check_reserved(geometry.first_step_index, record_steps, MAX_RECORDED_CONTACTS)
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )
@@ -416,24 +396,12 @@ def build_result(
 
     Units as in :func:`simulate` (E*, G* [GPa], α, μ0 [1], x0 [µm]).
     """
-    flat = not isinstance(upper, Profile)
-    final = float(curves["displacement"][-1])
-    parameters: dict[str, Any] = {
-        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
-        "steps": steps,
-        "final_displacement": final,
-        "final_displacement_factor": float(final_displacement_factor),
-        "e_star": e_star,
-        "g_star": g_star,
-        "mu0": mu0,
-        "alpha": float(alpha),
-        "x0": float(x0),
-        "r_min": 0.5 * lower.dx,
-        "dx": lower.dx,
-        "n_points": lower.n_points,
-        "length": lower.length,
-        **(extra or {}),
-    }
+    parameters = run_parameters(
+        curves, flat=not isinstance(upper, Profile), steps=steps,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0, dx=lower.dx, n_points=lower.n_points, length=lower.length,
+        extra=extra,
+    )  # fmt: skip
     fit_l, fit_u = fits
     stats = surface_statistics(
         lower,
@@ -443,7 +411,7 @@ def build_result(
     )
     return SimulationResult(
         curves=curves,
-        scalars={**stats, "final_displacement": final},
+        scalars={**stats, "final_displacement": parameters["final_displacement"]},
         parameters=parameters,
         contacts=contacts,
         lower_metadata=dict(lower.metadata),

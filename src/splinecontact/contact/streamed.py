@@ -60,10 +60,11 @@ from ..generate import (
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import grid_smoothing
+from ._arguments import check_model_arguments, check_reserved, run_parameters
 from ._chunks import _final_gaps, _rounded, _stream, margin_points
-from .geometry import ContactGeometry, check_positive, displacement_steps, order_candidates
+from .geometry import ContactGeometry, displacement_steps, order_candidates
 from .kernel import run_loading
-from .laws import ContactLaw, Hertz, bind_law, check_law, law_record
+from .laws import ContactLaw, Hertz, bind_law, law_record
 
 __all__ = [
     "CHUNK_POINTS",
@@ -205,14 +206,7 @@ def _run(
         slope_upper=None if flat else at["slope_u"], second_upper=None if flat else at["second_u"],
         dx=dx,
     )  # fmt: skip
-    if record_steps.size:
-        reserved = int(geometry.first_step_index[record_steps].sum())
-        if reserved > max_recorded:
-            raise ParameterError(
-                f"record_contacts would reserve {reserved} contact slots (points whose gap has "
-                f"closed, summed over {record_steps.size} recorded steps), above "
-                f"{max_recorded}; record fewer steps"
-            )
+    check_reserved(geometry.first_step_index, record_steps, max_recorded)
     run = run_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, record_steps=record_steps, law=law
     )
@@ -240,26 +234,14 @@ def _result(
     upper_metadata: Mapping[str, Any],
 ) -> SimulationResult:
     """The :class:`SimulationResult` a whole run builds (``contact.simulation.build_result``)."""
-    final = float(curves["displacement"][-1])
-    parameters: dict[str, Any] = {
-        "contact_type": "rough-on-flat" if flat else "rough-on-rough",
-        "steps": steps,
-        "final_displacement": final,
-        "final_displacement_factor": float(final_displacement_factor),
-        "e_star": e_star,
-        "g_star": g_star,
-        "mu0": mu0,
-        "alpha": float(alpha),
-        "x0": float(x0),
-        "r_min": 0.5 * dx,
-        "dx": dx,
-        "n_points": n,
-        "length": length,
-        **law_record(law),
-    }
+    parameters = run_parameters(
+        curves, flat=flat, steps=steps, final_displacement_factor=final_displacement_factor,
+        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, dx=dx, n_points=n,
+        length=length, extra=law_record(law),
+    )  # fmt: skip
     return SimulationResult(
         curves=curves,
-        scalars={**stats, "final_displacement": final},
+        scalars={**stats, "final_displacement": parameters["final_displacement"]},
         parameters=parameters,
         contacts=contacts,
         lower_metadata=dict(lower_metadata),
@@ -373,22 +355,12 @@ def simulate_generated(
     import inspect
 
     from ..generate import weierstrass_mandelbrot
-    from .simulation import MAX_STEPS
 
-    steps = check_integer("steps", steps, minimum=1, maximum=MAX_STEPS, note="paper: 1000")
-    if final_displacement is not None:
-        check_positive("final_displacement", final_displacement, " µm")
-    check_positive("final_displacement_factor", final_displacement_factor, "")
-    e_star = check_positive("e_star", e_star, " GPa")
-    g_star = (
-        e_star / 2.6
-        if g_star is None
-        else check_positive("g_star", g_star, " GPa", allow_zero=True)
-    )
-    mu0 = check_positive("mu0", mu0, "", allow_zero=True)
-    check_positive("alpha", alpha, "")
-    check_positive("x0", x0, " µm")
-    law = Hertz() if law is None else check_law(law)
+    steps, e_star, g_star, mu0, law = check_model_arguments(
+        steps=steps, final_displacement=final_displacement,
+        final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
+        mu0=mu0, alpha=alpha, x0=x0, law=law,
+    )  # fmt: skip
     if getattr(law, "needs_radius", False):
         raise ParameterError(
             f"the law {type(law).__name__} needs the bodies' radii, which a streamed "

@@ -320,17 +320,9 @@ def _read_raw(
                 f"{p}: X3P files state their units (metres) and spacing; drop unit=/spacing="
             )
         return read_x3p(p, line=line, max_points=max_points)
-    if fmt == "npy":
-        return read_npy(
-            p,
-            unit=unit,
-            height_unit=height_unit,
-            spacing=spacing,
-            line=line,
-            max_points=max_points,
-        )
-    if fmt == "npz":
-        return read_npz(
+    if fmt in ("npy", "npz"):
+        read_numpy = read_npy if fmt == "npy" else read_npz
+        return read_numpy(
             p,
             unit=unit,
             height_unit=height_unit,

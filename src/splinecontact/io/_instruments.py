@@ -40,7 +40,7 @@ from ..errors import (
 )
 from ..preprocess import RawProfile
 from ._limits import DEFAULT_MAX_POINTS, check_points, one_line
-from ._units import UNIT_FACTORS, normalize_unit
+from ._units import UNIT_FACTORS, normalize_unit, units_record
 
 __all__ = [
     "AMBIGUOUS_EXTENSIONS",
@@ -180,14 +180,8 @@ def _read(
         "0 (only a grid spacing is given)" if uniform else "file (positions as stated)"
     )
     z = np.ma.filled(np.ma.asarray(z, dtype=np.float64), np.nan)
-    metadata["units"] = {
-        "x": topo_unit,
-        "z": topo_unit,
-        "x_from": "file (SurfaceTopography)" if file_unit else "argument",
-        "z_from": "file (SurfaceTopography)" if file_unit else "argument",
-        "x_factor_to_um": factor,
-        "z_factor_to_um": factor,
-    }
+    origin = "file (SurfaceTopography)" if file_unit else "argument"
+    metadata["units"] = units_record(topo_unit, topo_unit, origin, origin, factor, factor)
     with np.errstate(over="ignore", invalid="ignore"):
         x_um = np.asarray(x, dtype=np.float64) * factor
         if uniform and x_um.size:

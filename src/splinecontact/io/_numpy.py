@@ -35,7 +35,7 @@ from ..errors import (
 from ..preprocess import RawProfile
 from ._limits import DEFAULT_MAX_POINTS, check_points, one_line, read_exact, required_spacing
 from ._stored import MAX_STORED_CHARS, parse_stored_metadata
-from ._units import UNIT_FACTORS, normalize_unit
+from ._units import UNIT_FACTORS, normalize_unit, units_record
 from ._x3p import ZIP_ERRORS, open_zip
 
 __all__ = ["NumpyFileError", "read_npy", "read_npz"]
@@ -225,14 +225,14 @@ def _make(
     metadata: dict[str, Any] = {
         "source": str(path),
         "format": fmt,
-        "units": {
-            "x": x_unit,
-            "z": z_unit,
-            "x_from": origin if spacing is None else "argument spacing",
-            "z_from": origin,
-            "x_factor_to_um": x_factor,
-            "z_factor_to_um": z_factor,
-        },
+        "units": units_record(
+            x_unit,
+            z_unit,
+            origin if spacing is None else "argument spacing",
+            origin,
+            x_factor,
+            z_factor,
+        ),
     }
     if spacing is not None:
         metadata["spacing_um"] = float(spacing)

@@ -47,7 +47,7 @@ from ._tokens import (
     _split,
     _split_titles,
 )
-from ._units import UNIT_FACTORS, normalize_unit, strip_bracketed, unit_in_text
+from ._units import UNIT_FACTORS, normalize_unit, strip_bracketed, unit_in_text, units_record
 
 __all__ = ["METADATA_COMMENT", "read_table"]
 
@@ -405,14 +405,7 @@ def _table_to_raw(
         z = np.where(undefined, np.nan, z)
         metadata["validity_column"] = columns[flag_col].title
     metadata["n_flagged_invalid"] = n_flagged
-    metadata["units"] = {
-        "x": x_unit,
-        "z": z_unit,
-        "x_from": x_from,
-        "z_from": z_from,
-        "x_factor_to_um": x_factor,
-        "z_factor_to_um": z_factor,
-    }
+    metadata["units"] = units_record(x_unit, z_unit, x_from, z_from, x_factor, z_factor)
     stored = _stored_metadata(path, table.stored)
     if stored is not None:
         metadata["stored_metadata"] = stored.get("profile_metadata", stored)

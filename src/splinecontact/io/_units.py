@@ -13,6 +13,7 @@ __all__ = [
     "normalize_unit",
     "strip_bracketed",
     "unit_in_text",
+    "units_record",
 ]
 
 #: Factor converting one of each unit to µm.
@@ -163,3 +164,28 @@ def unit_in_text(text: str) -> tuple[str | None, str | None]:
         if found is not None:
             return found, words[-1]
     return None, None
+
+
+def units_record(
+    x_unit: str, z_unit: str, x_from: str, z_from: str, x_factor: float, z_factor: float
+) -> dict[str, str | float]:
+    """The ``units`` entry of a read profile's metadata (every reader writes this one form).
+
+    Parameters
+    ----------
+    x_unit, z_unit : str
+        Units of the positions and heights as read (``"µm"`` for positions made from a
+        spacing).
+    x_from, z_from : str
+        Where each unit came from (the file, an argument, a standard).
+    x_factor, z_factor : float
+        Factors converting them to µm [µm per unit].
+    """
+    return {
+        "x": x_unit,
+        "z": z_unit,
+        "x_from": x_from,
+        "z_from": z_from,
+        "x_factor_to_um": x_factor,
+        "z_factor_to_um": z_factor,
+    }

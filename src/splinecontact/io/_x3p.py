@@ -46,11 +46,13 @@ from ._limits import (
     read_chunks,
     read_exact,
 )
+from ._units import units_record
 
 __all__ = ["ZIP_ERRORS", "DamagedX3PError", "open_zip", "read_x3p"]
 
 _DTYPES = {"I": "<u2", "L": "<u4", "F": "<f4", "D": "<f8"}  # I, L unsigned (openGPS)
 _METRE_TO_UM = 1e6
+_X3P_UNITS = "X3P standard (metres)"  # where the units of an X3P file come from
 #: Errors of the zip and zlib modules on damaged archives (wrapped in DamagedX3PError).
 ZIP_ERRORS = (
     zipfile.BadZipFile,
@@ -460,14 +462,7 @@ def _metadata(
         "format": "x3p",
         "feature_type": layout.feature,
         "matrix": [layout.size_x, layout.size_y, layout.size_z],
-        "units": {
-            "x": "m",
-            "z": "m",
-            "x_from": "X3P standard (metres)",
-            "z_from": "X3P standard (metres)",
-            "x_factor_to_um": _METRE_TO_UM,
-            "z_factor_to_um": _METRE_TO_UM,
-        },
+        "units": units_record("m", "m", _X3P_UNITS, _X3P_UNITS, _METRE_TO_UM, _METRE_TO_UM),
         "z_data_type": layout.z_type,
         "n_flagged_invalid": int((~valid).sum()) if valid is not None else 0,
     }

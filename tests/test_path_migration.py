@@ -1,0 +1,80 @@
+"""The spring migration of a load-path step against a plain global greedy assignment.
+
+:func:`splinecontact.contact._migration.migrate` finds, with merged sweeps and a greedy
+assignment per group of contacts sharing a candidate (or bisections and one global pass when
+the contacts are not in grid order), which committed contact each accepted contact continues.
+The reference here is the rule itself, written the plain way: the same cell continues its
+contact; every other contact may continue a vanished one within the window, all such pairs
+taken by increasing centre distance (ties in generation order: contacts in their order, each
+one's candidates by distance in cells, the left one first), each side at most once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from splinecontact.contact import loadpath as lp
+from splinecontact.contact._migration import migrate
+from splinecontact.contact.laws import Hertz
+
+
+def _reference(old_cells, old_xc, new_cells, new_xc, window):  # type: ignore[no-untyped-def]
+    src = [-1] * len(new_cells)
+    position = {cell: p for p, cell in enumerate(old_cells)}
+    own = set()
+    for c, i in enumerate(new_cells):
+        if i in position:
+            src[c] = position[i]
+            own.add(position[i])
+    vanished = [p for p in range(len(old_cells)) if p not in own]
+    pairs = []
+    for c, i in enumerate(new_cells):
+        if src[c] >= 0:
+            continue
+        near = [p for p in vanished if abs(old_cells[p] - i) <= window]
+        near.sort(key=lambda p: (abs(old_cells[p] - i), old_cells[p] > i))
+        pairs += [(abs(old_xc[p] - new_xc[c]), c, p) for p in near]
+    order = sorted(range(len(pairs)), key=lambda k: pairs[k][0])  # stable
+    claimed = set()
+    for k in order:
+        _, c, p = pairs[k]
+        if src[c] < 0 and p not in claimed:
+            src[c] = p
+            claimed.add(p)
+    return src
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    data=st.data(),
+    n_grid=st.integers(8, 60),
+    window=st.integers(1, 6),
+    shuffle=st.booleans(),
+)
+def test_migration_equals_the_global_greedy_rule(
+    data: st.DataObject, n_grid: int, window: int, shuffle: bool
+) -> None:
+    cells = st.lists(st.integers(0, n_grid - 1), unique=True, min_size=1, max_size=n_grid // 2)
+    old_cells = sorted(data.draw(cells))
+    new_cells = sorted(data.draw(cells))
+    if shuffle:
+        new_cells = list(np.random.default_rng(len(new_cells)).permutation(new_cells))
+    # centres on a coarse lattice so that equal distances (ties) occur
+    old_xc = [c + data.draw(st.integers(-2, 2)) / 2 for c in old_cells]
+    new_xc = [c + data.draw(st.integers(-2, 2)) / 2 for c in new_cells]
+    state = lp._State(n_grid, Hertz(), 10.0, 4.0, 0.3)
+    state.ensure(n_grid + 1)
+    springs, scratch = state.springs, state.scratch
+    n_old = len(old_cells)
+    springs.cells[:n_old] = old_cells
+    springs.xc[:n_old] = old_xc
+    springs.n_committed[0] = n_old
+    n_c = len(new_cells)
+    scratch.idx[:n_c] = new_cells
+    scratch.xc[:n_c] = new_xc
+    migrate(n_grid, n_c, window, springs, scratch)
+    expected = _reference(old_cells, old_xc, new_cells, new_xc, window)
+    assert list(scratch.src[:n_c]) == expected
+    assert not springs.claimed.any()  # the scratch flags are left clear
