@@ -304,15 +304,12 @@ def test_simulate_with_interaction() -> None:
 
 
 def test_simulate_interaction_refuses_what_it_does_not_support() -> None:
-    from splinecontact import Segment, simulate
+    from splinecontact import simulate
 
     profile = circle_profile(256, 0.01, 50.0, [1.28])
     with pytest.raises(ParameterError, match="interaction"):
         simulate(profile, "flat", steps=5, interaction="yes")  # type: ignore[arg-type]
-    with pytest.raises(ParameterError, match="load paths"):
-        simulate(
-            profile, "flat", interaction=True, path=[Segment(normal=1e-3, tangential=1e-3, steps=5)]
-        )
+    # (sliding and force-controlled paths run since: tests/test_interaction_slide.py)
 
 
 @pytest.mark.filterwarnings("ignore::splinecontact.diagnostics.SimulationWarning")

@@ -95,18 +95,6 @@ def test_stop_force_ends_the_loading(profile) -> None:  # type: ignore[no-untype
     assert max(c.step for c in short.contacts) <= first
 
 
-@pytest.mark.parametrize(
-    ("segment", "match"),
-    [
-        (Segment(normal=1e-3, tangential=1e-3, steps=5), "tangential sliding"),
-        (Segment(normal_force=1e-3, steps=5), "force control"),
-    ],
-)
-def test_refused_paths_name_what_is_refused(profile, segment, match) -> None:  # type: ignore[no-untyped-def]
-    with pytest.raises(LoadPathError, match=match):
-        simulate(profile, "flat", interaction=True, path=[segment], diagnostics=False)
-
-
 def test_path_refuses_steps_and_final_displacement(profile) -> None:  # type: ignore[no-untyped-def]
     path = [Segment(normal=1e-3, steps=5)]
     with pytest.raises(LoadPathError, match="steps"):

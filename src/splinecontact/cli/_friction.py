@@ -60,6 +60,13 @@ def register(app: typer.Typer) -> None:
         alpha: Annotated[float, typer.Option("--alpha", help="Spline tightness α [1].")] = 2.0,
         x0: Annotated[float, typer.Option("--x0", help="Spline unit length x0 [µm].")] = 1.0,
         overwrite: OverwriteOpt = False,
+        interaction: Annotated[
+            bool,
+            typer.Option(
+                "--interaction/--no-interaction",
+                help="Couple the contacts through the elastic half-plane (interacting SAD).",
+            ),
+        ] = False,
         law: LawOpt = "hertz",
         work_of_adhesion: WorkOfAdhesionOpt = None,
         cohesive_stress: CohesiveStressOpt = None,
@@ -93,7 +100,7 @@ def register(app: typer.Typer) -> None:
         note(*bodies.notes)
         result = simulate(
             bodies.lower, bodies.upper, e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha,
-            x0=x0, path=segments, law=contact_law,
+            x0=x0, path=segments, law=contact_law, interaction=interaction,
         )  # fmt: skip
         write_result(result, out, header={"lower": bodies.lower_spec, "upper": bodies.upper_spec})
         c = result.curves

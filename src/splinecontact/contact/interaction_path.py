@@ -1,4 +1,4 @@
-"""Interacting SAD along a normal load path (loading, unloading, reloading).
+"""Interacting SAD along load paths: normal paths here (loading, unloading, reloading).
 
 The coupled contacts of :mod:`.interaction` under a displacement-controlled normal path given
 as :class:`~splinecontact.contact.Segment` pieces: the upper body's normal displacement δ_N
@@ -8,8 +8,9 @@ one, whatever the direction. With SAD's elastic law (eq. 10) the normal state de
 only, so unloading retraces loading; the tangential springs (eqs. 11–13) follow the normal
 increments as in the monotone loading, with their history.
 
-Tangential sliding (``tangential=``) and force control (``normal_force=``) with interacting
-contacts are refused with a :class:`~splinecontact.errors.LoadPathError`.
+A path with tangential sliding (``tangential=``) or force control (``normal_force=``) is
+followed by :mod:`.interaction_slide` (one coupled solve per step on the shifted geometry);
+a path of normal displacement segments only runs here, unchanged.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ from numpy.typing import NDArray
 from ..errors import LoadPathError
 from ..profile import Profile
 from ..results import SimulationResult
-from .geometry import check_bodies
+from ..spline import SplineFit
+from .geometry import check_bodies, contact_geometry
 from .interaction import InteractionSettings, extended_geometry, interacting_loading
 from .loadpath import path_segments
 from .segments import Segment, validate_path
@@ -38,25 +40,17 @@ def normal_path_displacements(segments: Iterable[Segment]) -> NDArray[np.float64
     Raises
     ------
     LoadPathError
-        A segment moves the upper body tangentially or holds a normal force: neither is
-        supported with interacting contacts.
+        A segment moves the upper body tangentially or holds a normal force (such paths are
+        followed by :func:`.interaction_slide.run_interacting_path`).
     """
     values = [0.0]
     current = 0.0
     for index, segment in enumerate(validate_path(segments)):
-        if segment.tangential is not None and segment.tangential != 0.0:
+        if _moves_or_holds(segment):
             raise LoadPathError(
-                f"path segment {index}: tangential = {segment.tangential!r} µm; interacting "
-                "contacts (interaction=True) run normal load paths only (loading, unloading, "
-                "reloading): tangential sliding is not supported with them yet — drop "
-                "tangential or interaction"
-            )
-        if segment.force_controlled:
-            raise LoadPathError(
-                f"path segment {index}: normal_force = {segment.normal_force!r} mN/µm; "
-                "interacting contacts (interaction=True) run displacement-controlled paths only: "
-                "force control is not supported with them yet — give normal= (δ_N [µm]) or "
-                "drop interaction"
+                f"path segment {index} ({segment!r}) slides or holds a normal force: it has no "
+                "δ_N given in advance; give normal= (δ_N [µm]) and no tangential, or follow "
+                "the path with simulate(..., path=...)"
             )
         target = current if segment.normal is None else float(segment.normal)
         k = np.arange(1, segment.steps + 1, dtype=np.float64)
@@ -80,15 +74,20 @@ def simulate_interacting_path(
     alpha: float,
     x0: float,
 ) -> SimulationResult:
-    """``simulate(..., path=..., interaction=True)`` (units as there; normal paths only)."""
+    """``simulate(..., path=..., interaction=True)`` (units as there)."""
     from .simulation import _record_steps, build_result, spline_fits
 
     segments = path_segments(path, steps, final_displacement)
+    check_bodies(lower, upper)
+    fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
+    if any(_moves_or_holds(s) for s in segments):
+        return _sliding_result(
+            lower, upper, segments, fits, settings, record_contacts, e_star=e_star,
+            g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
+        )  # fmt: skip
     displacement = normal_path_displacements(segments)
     total = displacement.size - 1
     record_steps = _record_steps(record_contacts, total)
-    check_bodies(lower, upper)
-    fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
     extent = max(float(displacement.max()), lower.dx)
     geometry = extended_geometry(
         lower, upper, steps=1, final_displacement=extent, final_displacement_factor=0.2,
@@ -99,20 +98,62 @@ def simulate_interacting_path(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
         settings=settings, record_steps=record_steps,
     )  # fmt: skip
-    path_record = [
-        {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
-         "steps": s.steps}
-        for s in segments
-    ]  # fmt: skip
-    extra = {
-        "path": path_record,
+    return build_result(
+        lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
+        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
+        extra=_path_parameters(segments, settings),
+    )  # fmt: skip
+
+
+def _moves_or_holds(segment: Segment) -> bool:
+    """Whether a segment slides the upper body or holds a normal force."""
+    return segment.force_controlled or (
+        segment.tangential is not None and segment.tangential != 0.0
+    )
+
+
+def _path_parameters(segments: tuple[Segment, ...], settings: InteractionSettings) -> dict:
+    """The result's parameters that describe the path and the coupled solve."""
+    return {
+        "path": [dataclasses.asdict(s) for s in segments],
         "path_segment_end": np.cumsum([s.steps for s in segments]).tolist(),
         "interaction": "elastic half-plane",
         "interaction_boundary": "periodic" if settings.periodic else "symmetry walls",
         "interaction_tol": settings.tol,
         "interaction_width": settings.width,
     }
+
+
+def _sliding_result(
+    lower: Profile,
+    upper: Profile | Literal["flat"],
+    segments: tuple[Segment, ...],
+    fits: tuple[SplineFit, SplineFit | None],
+    settings: InteractionSettings,
+    record_contacts: Iterable[int] | str | None,
+    *,
+    e_star: float,
+    g_star: float,
+    mu0: float,
+    alpha: float,
+    x0: float,
+) -> SimulationResult:
+    """A path with tangential or force-controlled segments (:mod:`.interaction_slide`)."""
+    from .interaction_slide import run_interacting_path
+    from .simulation import _record_steps, build_result
+
+    total = sum(s.steps for s in segments)
+    curves, contacts = run_interacting_path(
+        lower, upper, segments, fits, settings, e_star=e_star, g_star=g_star, mu0=mu0,
+        record_steps=_record_steps(record_contacts, total),
+    )  # fmt: skip
+    rigid = contact_geometry(
+        lower, upper, steps=1, final_displacement=lower.dx, final_displacement_factor=0.2,
+        alpha=alpha, x0=x0, fits=fits,
+    )  # fmt: skip
+    curves["mean_separation"] = rigid.mean_gap0 - curves["displacement"]
     return build_result(
         lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
-        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, extra=extra,
+        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
+        extra=_path_parameters(segments, settings),
     )  # fmt: skip

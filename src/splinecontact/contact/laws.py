@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 
 from ..errors import ContactLawError, ParameterError, UnknownContactLawError
 from .adhesion import DMT, JKR, dmt_evaluate, jkr_evaluate
+from .geometry import add_contact_forces
 from .maugis_dugdale import MaugisDugdale, md_evaluate
 from .plasticity import ElasticPlastic, plastic_evaluate
 
@@ -61,6 +62,7 @@ __all__ = [
     "new_law_state",
     "normal_law",
     "release_law",
+    "spring_sums",
     "tangential_spring",
 ]
 
@@ -475,3 +477,47 @@ def tangential_spring(
     if trial < -cap:
         return -cap, True, trial
     return trial, False, trial
+
+
+@numba.njit(cache=True, nogil=True)
+def spring_sums(
+    du: float, dd: float, n_c: int, g_star: float, mu0: float, springs: Any, scratch: Any
+) -> tuple[tuple[float, float, float, float, float, int], int, float, int]:  # pragma: no cover
+    """Eqs. 11–13 on the ``n_c`` accepted contacts of a load-path step, and their sums.
+
+    ``scratch`` (:class:`.path_kernel.Scratch`) holds each contact's normal force ``fn``
+    [mN/µm], direction ``ex``, ``ez`` [1], half-width ``width`` [µm] and the previous contact
+    ``src`` it continues (−1: new), whose spring force ``ft`` and direction are in ``springs``
+    (:class:`.path_kernel.Springs`); ``du``, ``dd`` the step's Δu_T, Δδ_N [µm]. Writes each
+    contact's ``ft`` and ``slip``; returns the sums of :func:`.geometry.add_contact_forces`,
+    the slipping contacts, the slip work [mN·µm/µm] and the contacts that touch.
+    """
+    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
+    work = 0.0
+    n_slip = 0
+    n_touch = 0
+    for c in range(n_c):
+        f_n = scratch.fn[c]
+        e_x = scratch.ex[c]
+        e_z = scratch.ez[c]
+        src = scratch.src[c]
+        previous = 0.0
+        increment = 0.0
+        if src >= 0:
+            # Eq. 11 with the upper body's increment (Δu_T, −Δδ_N) projected on the mean of the
+            # old and new tangents t = (e_z, −e_x) (trapezoidal rule: reversible without slip).
+            proj = 0.5 * (du * (springs.ez[src] + e_z) + dd * (springs.ex[src] + e_x))
+            previous = springs.ft[src]
+            increment = g_star * proj
+        f_t, slipping, trial = tangential_spring(previous, increment, mu0, f_n)
+        if slipping:
+            n_slip += 1
+            if g_star > 0.0:
+                cap = mu0 * max(f_n, 0.0)
+                work += cap * (abs(trial) - cap) / g_star
+        scratch.ft[c] = f_t
+        scratch.slip[c] = slipping
+        sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
+        if f_n != 0.0 or scratch.width[c] > 0.0:
+            n_touch += 1  # a law acting at a gap also visits points it leaves without force
+    return sums, n_slip, work, n_touch

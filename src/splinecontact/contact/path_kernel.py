@@ -36,8 +36,8 @@ from ._culling import (
     sphere_ready,
 )
 from ._migration import migrate as _migrate
-from .geometry import add_contact_forces, contact_centre_height, sphere_contact
-from .laws import Material, commit_law, normal_law, release_law, tangential_spring
+from .geometry import contact_centre_height, sphere_contact
+from .laws import Material, commit_law, normal_law, release_law, spring_sums
 
 __all__ = [
     "Culling",
@@ -427,36 +427,9 @@ def _settle(
 
     _migrate(n, n_c, migrate_cells, springs, scratch)
 
-    g_star = material.g_star
-    mu0 = material.mu0
-    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0)
-    work = 0.0
-    n_slip = 0
-    n_touch = 0
-    for c in range(n_c):
-        f_n = scratch.fn[c]
-        e_x = scratch.ex[c]
-        e_z = scratch.ez[c]
-        src = scratch.src[c]
-        previous = 0.0
-        increment = 0.0
-        if src >= 0:
-            # Eq. 11 with the upper body's increment (Δu_T, −Δδ_N) projected on the mean of the
-            # old and new tangents t = (e_z, −e_x) (trapezoidal rule: reversible without slip).
-            proj = 0.5 * (du * (springs.ez[src] + e_z) + dd * (springs.ex[src] + e_x))
-            previous = springs.ft[src]
-            increment = g_star * proj
-        f_t, slipping, trial = tangential_spring(previous, increment, mu0, f_n)
-        if slipping:
-            n_slip += 1
-            if g_star > 0.0:
-                cap = mu0 * max(f_n, 0.0)
-                work += cap * (abs(trial) - cap) / g_star
-        scratch.ft[c] = f_t
-        scratch.slip[c] = slipping
-        sums = add_contact_forces(sums, f_n, f_t, e_x, e_z, scratch.width[c])
-        if f_n != 0.0 or scratch.width[c] > 0.0:
-            n_touch += 1  # a law acting at a gap also visits points it leaves without force
+    sums, n_slip, work, n_touch = spring_sums(
+        du, dd, n_c, material.g_star, material.mu0, springs, scratch
+    )
     if commit:
         # The committed contacts are kept in grid order (slot p: cell springs.cells[p]).
         idx = scratch.idx[:n_c]

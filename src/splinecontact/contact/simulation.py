@@ -157,8 +157,8 @@ def simulate(
         :class:`~splinecontact.contact.interaction.InteractionSettings`): the accepted contacts
         interact through the elastic half-plane (:mod:`splinecontact.contact.interaction`,
         ``docs/accuracy.md``); the curves gain ``coalesced_contact_length``,
-        ``n_contact_patches``, ``interaction_iterations`` and ``reach_exceeded``. Normal
-        loading with the Hertz law only (no ``path``, no other ``law``).
+        ``n_contact_patches``, ``interaction_iterations`` and ``reach_exceeded``. Any
+        ``path`` (sliding and force control: :mod:`.interaction_slide`); Hertz law only.
 
     Returns
     -------
