@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -51,3 +52,24 @@ def test_just_inside_validity_is_unchanged() -> None:
         0.0165224928022173,
     ]
     assert np.all(np.isfinite(result.normal_force))
+
+
+def test_cli_gives_one_line_and_writes_nothing(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from splinecontact.cli import app
+
+    profile = _circle()
+    source = tmp_path / "circle.csv"
+    np.savetxt(
+        source, np.c_[profile.x, profile.z], delimiter=",", header="x [um],z [um]", comments=""
+    )
+    target = tmp_path / "out.nc"
+    args = ["friction", "--lower", str(source), "--upper", "flat", "-o", str(target)]
+    args += ["--path", "normal=0.0005,steps=40", "--interaction"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code != 0
+    errors = [line for line in result.output.splitlines() if line.startswith("error:")]
+    assert len(errors) == 1 and "left its validity" in errors[0]
+    assert "Traceback" not in result.output
+    assert not target.exists()
