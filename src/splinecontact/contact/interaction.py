@@ -264,6 +264,32 @@ def extended_geometry(
     )
 
 
+def _check_finite(
+    sums: NDArray[np.float64],
+    first: int,
+    stop: int,
+    displacement: NDArray[np.float64],
+    period: float,
+) -> None:
+    """Raise :class:`ParameterError` at the first step whose sums are not finite.
+
+    The model's self coefficient c P (ln(L_p/(π a)) − 3/2) and the periodic Green function
+    hold only while every contact is narrow next to the period L_p [µm]; a contact as wide as
+    the period leaves the model and its loads become infinite or undefined.
+    """
+    bad = ~np.all(np.isfinite(sums[:, first:stop]), axis=0)
+    if not bad.any():
+        return
+    step = first + int(np.argmax(bad))
+    raise ParameterError(
+        f"the interacting model left its validity at step {step} (displacement "
+        f"{float(displacement[step]):.4g} µm): a contact grew too wide for the period "
+        f"L_p = {period:.4g} µm of the half-plane model (its half-width must stay well below "
+        f"L_p/π = {period / math.pi:.4g} µm), so its load is not finite; use a longer profile "
+        "(more points at the same spacing) or a smaller final displacement"
+    )
+
+
 def interacting_loading(
     geometry: Any,
     *,
@@ -407,6 +433,7 @@ def interacting_loading(
                 f"at step {failed} (residual {residual:.3g} > tol {settings.tol:.3g}); raise "
                 "tol or use more steps"
             )
+        _check_finite(sums, first, stop, displacement, period)
         if stopped >= 0:
             n_steps = stop = stopped + 1
             displacement = displacement[:n_steps]
