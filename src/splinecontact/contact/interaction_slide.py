@@ -51,7 +51,7 @@ from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
 from .interaction import InteractionSettings, interacting_loading
 from .laws import spring_sums
-from .loadpath import _prepare, _solve_force
+from .loadpath import FORCE_RTOL, _prepare, _solve_force
 from .path_kernel import (
     Scratch,
     Springs,
@@ -75,6 +75,9 @@ FORCE_SOLVE_TOL = 1e-11
 #: of a 10⁵-point rough pair (a step whose solve fails is repeated with the settings' own
 #: number of updates).
 WIDTH_ITERATIONS = 3
+
+#: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
+SET_ROUNDS = 4
 
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
@@ -218,7 +221,11 @@ class _Driver:
         return columns
 
     def _solve(
-        self, geometry: ContactGeometry, settings: InteractionSettings, tol: float | None
+        self,
+        geometry: ContactGeometry,
+        settings: InteractionSettings,
+        tol: float | None,
+        held: NDArray[np.bool_] | None,
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
         """The coupled two-step loading (:func:`.interaction.interacting_loading`), repeated
         with the given settings' width updates if the width loop made it fail."""
@@ -226,18 +233,24 @@ class _Driver:
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([1]),
+                settings=chosen, record_steps=np.array([1]), contact_set=held,
             )  # fmt: skip
         except NoConvergenceError:
             if settings.width_iterations == self.given.width_iterations:
                 raise
-            return self._solve(geometry, self.given, tol)
+            return self._solve(geometry, self.given, tol, held)
 
     def evaluate(
-        self, u: float, d: float, commit: bool, tol: float | None = None
+        self,
+        u: float,
+        d: float,
+        commit: bool,
+        tol: float | None = None,
+        held: NDArray[np.int64] | None = None,
     ) -> tuple[tuple[float, ...], ContactRecord | None]:
         """The configuration (u_T = u, δ_N = d) after the current one: the per-step values of
-        ``_NAMES`` and the loaded contacts (springs committed with ``commit``)."""
+        ``_NAMES`` and the loaded contacts (springs committed with ``commit``). With ``held``
+        (grid points) the contacts of the configuration are those points, eq. 9 not tested."""
         point, gap0, k_l, k_u, m_x, m_z, n_x, n_z = self.columns(u, max(d, self.d))
         index = point.astype(np.int64)
         geometry = ContactGeometry(
@@ -248,7 +261,10 @@ class _Driver:
         )  # fmt: skip
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
-        curves, contacts = self._solve(geometry, self.settings if tol is None else self.given, tol)
+        mask = None if held is None else np.isin(index, held)
+        curves, contacts = self._solve(
+            geometry, self.settings if tol is None else self.given, tol, mask
+        )
         record = contacts[0] if contacts else None
         n_c = 0 if record is None else record.point.size
         if n_c > self.scratch.idx.size:
@@ -275,6 +291,134 @@ class _Driver:
         if commit:
             self.u, self.d = u, d
         return values, record
+
+
+class _HeldSetFails(Exception):
+    """A held contact set whose F_N(δ_N) stops rising before the target."""
+
+
+def _solve_continuous(
+    target: float, evaluate: Any, d0: float, f0: float, scale: float
+) -> tuple[float, float]:
+    """δ_N with F_N(δ_N) = target [mN/µm] for an F_N continuous and increasing in δ_N (the
+    contact set held): secant steps from (d0, f0) [µm, mN/µm], kept inside the bracket once
+    one is known (Illinois regula falsi where a secant step leaves it). Returns (δ_N, F_N);
+    where F_N still jumps across the target (the remaining bracket at rounding level), the
+    nearer side. Raises :class:`_HeldSetFails` where F_N falls while δ_N moves towards the
+    target before a bracket is found, or the target lies beyond 2 × ``scale`` [µm]."""
+    limit = 2.0 * scale  # beyond this the bodies interpenetrate over their full height
+    r0 = f0 - target
+    if abs(r0) <= FORCE_RTOL * target:
+        return d0, f0
+    lo, r_lo, hi, r_hi = -math.inf, -math.inf, math.inf, math.inf
+    if r0 < 0.0:
+        lo, r_lo = d0, r0
+    else:
+        hi, r_hi = d0, r0
+    step = math.copysign(max(1e-6 * scale, 1e-3 * abs(d0), 1e-12), -r0)
+    x0, x1 = d0, d0 + step
+    side = 0
+    for _ in range(200):
+        x1 = min(max(x1, -limit), limit)
+        r1 = float(evaluate(x1)) - target
+        if abs(r1) <= FORCE_RTOL * target:
+            return x1, r1 + target
+        if r1 < 0.0:
+            lo, r_lo = x1, r1
+            side = -1 if side != -1 else -2
+        else:
+            hi, r_hi = x1, r1
+            side = 1 if side != 1 else 2
+        if math.isfinite(lo) and math.isfinite(hi):
+            if abs(hi - lo) <= 4.0 * np.spacing(max(abs(hi), abs(lo), 1e-300)):
+                break
+            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else math.nan
+            if not lo < guess < hi:  # Illinois: halve the weight of the side kept twice
+                w_lo = r_hi * (0.5 if side == 2 else 1.0)
+                w_hi = r_lo * (0.5 if side == -2 else 1.0)
+                guess = (lo * w_lo - hi * w_hi) / (w_lo - w_hi)
+                if not lo < guess < hi:
+                    guess = 0.5 * (lo + hi)
+        else:
+            if abs(x1) >= limit or (r1 - r0) * (x1 - x0) < 0.0:
+                raise _HeldSetFails  # F_N does not rise towards the target
+            # extrapolate by the secant, at most 100 times the last step
+            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else math.nan
+            reach = 100.0 * abs(x1 - x0)
+            if not math.isfinite(guess) or (guess - x1) * -r1 <= 0.0:
+                guess = x1 + math.copysign(reach, -r1)
+            guess = x1 + math.copysign(min(abs(guess - x1), reach), -r1)
+        x0, r0, x1 = x1, r1, guess
+    if abs(r_lo) < abs(r_hi):
+        return lo, r_lo + target
+    return hi, r_hi + target
+
+
+def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
+    """The grid points of the loaded contacts of an evaluation (sorted)."""
+    if record is None:
+        return np.zeros(0, dtype=np.int64)
+    return np.sort(record.point.astype(np.int64))
+
+
+def _force_step(
+    driver: _Driver, u: float, target: float, tol: float
+) -> tuple[float, NDArray[np.int64] | None]:
+    """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], and the
+    contact set to hold through it (grid points; ``None``: eq. 9 free).
+
+    With the contact set held (eq. 9 not re-tested; a held contact whose effective approach
+    falls to ≤ 0 carries nothing) the coupled F_N(δ_N) is continuous, and the target is met
+    by :func:`_solve_continuous`. The set is first that of the loaded contacts at the previous
+    δ_N; the free model (eq. 9) is then evaluated at the solved δ_N, and while it loads
+    another set, that set is held and δ_N solved again from there (at most ``SET_ROUNDS``
+    sets). Where a held set cannot carry the target (F_N stops rising before it: its sphere
+    geometry, eqs. 4–8, holds for small overlaps only), the free bracketing of the
+    non-interacting path (:func:`.loadpath._solve_force`) finds δ_N, and where the free F_N
+    jumps across the target the set below the jump is held from there. The step is the held
+    set at the solved δ_N: the free model's step wherever the two load the same contacts,
+    F_N held to the target in any case.
+    """
+    scale = driver.geo.scale
+    seen: dict[float, ContactRecord | None] = {}
+
+    def trial(value: float, held: NDArray[np.int64] | None) -> float:
+        out, seen[value] = driver.evaluate(u, value, False, tol, held)
+        return out[0]
+
+    def hold_from(d: float, held: NDArray[np.int64]) -> tuple[float, NDArray[np.int64]]:
+        """δ_N and the set of the held solves from δ_N = d."""
+        for round_ in range(SET_ROUNDS):
+            seen.clear()
+            d, _ = _solve_continuous(
+                target, lambda v, _h=held: trial(v, _h), d, trial(d, held), scale
+            )
+            loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
+            if np.array_equal(loaded, _loaded(seen[d])):
+                break  # the free model's contacts: consistent
+            if round_ == SET_ROUNDS - 1 or loaded.size == 0:
+                break  # the target lies in a jump of the free model: F_N held
+            held = loaded
+        return d, held
+
+    f = trial(driver.d, None)
+    if abs(f - target) <= FORCE_RTOL * target:
+        return driver.d, None
+    held = _loaded(seen[driver.d])
+    if held.size:
+        try:
+            return hold_from(driver.d, held)
+        except _HeldSetFails:
+            pass
+    # no contact at the previous δ_N, or its set cannot carry the target
+    d, _, lo, hi = _solve_force(target, lambda v: (trial(v, None),), driver.d, scale)
+    held = _loaded(driver.evaluate(u, lo, False, tol)[1])
+    if lo == hi or held.size == 0:
+        return d, None
+    try:
+        return hold_from(lo, held)
+    except _HeldSetFails:
+        return d, None
 
 
 def run_interacting_path(
@@ -371,12 +515,9 @@ def run_interacting_path(
                 store(k, *driver.evaluate(u, d, True))
                 continue
 
-            def trial(value: float, _u: float = u) -> tuple[float, ...]:
-                return driver.evaluate(_u, value, False, force_tol)[0]
-
-            d, _, _, _ = _solve_force(force, trial, driver.d, driver.geo.scale)
+            d, held = _force_step(driver, u, force, force_tol)
             target[k] = force
-            store(k, *driver.evaluate(u, d, True, force_tol))
+            store(k, *driver.evaluate(u, d, True, force_tol, held))
     curves: dict[str, NDArray[Any]] = {
         "displacement": table[:, 0].copy(),
         "tangential_displacement": table[:, 1].copy(),
