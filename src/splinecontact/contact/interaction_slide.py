@@ -79,10 +79,16 @@ WIDTH_ITERATIONS = 3
 #: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
 SET_ROUNDS = 4
 
+#: Steps on which the held F_N falls before a held set is given up [1] (:func:`_solve_continuous`).
+MAX_FALLS = 6
+
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
+
+#: A held contact set: grid points [1] and the springs' migration window [cells].
+Held = tuple[NDArray[np.int64], int]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -240,17 +246,23 @@ class _Driver:
                 raise
             return self._solve(geometry, self.given, tol, held)
 
+    def window(self, u: float, d: float) -> int:
+        """Cells within which a vanished contact may continue (:func:`._migration.migrate`)
+        from the current configuration to (u_T = u, δ_N = d) [µm]."""
+        return int(migrate_cells_of(u - self.u, d - self.d, self.dx, self.n))
+
     def evaluate(
         self,
         u: float,
         d: float,
         commit: bool,
         tol: float | None = None,
-        held: NDArray[np.int64] | None = None,
+        held: Held | None = None,
     ) -> tuple[tuple[float, ...], ContactRecord | None]:
         """The configuration (u_T = u, δ_N = d) after the current one: the per-step values of
         ``_NAMES`` and the loaded contacts (springs committed with ``commit``). With ``held``
-        (grid points) the contacts of the configuration are those points, eq. 9 not tested."""
+        = (grid points, migration window [cells]) the contacts of the configuration are those
+        points, eq. 9 not tested, and the springs migrate within that window."""
         point, gap0, k_l, k_u, m_x, m_z, n_x, n_z = self.columns(u, max(d, self.d))
         index = point.astype(np.int64)
         geometry = ContactGeometry(
@@ -261,7 +273,7 @@ class _Driver:
         )  # fmt: skip
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
-        mask = None if held is None else np.isin(index, held)
+        mask = None if held is None else np.isin(index, held[0])
         curves, contacts = self._solve(
             geometry, self.settings if tol is None else self.given, tol, mask
         )
@@ -278,7 +290,7 @@ class _Driver:
             s.ez[:n_c] = record.normal_z[order]
             s.xc[:n_c] = record.x[order]
             s.width[:n_c] = np.sqrt(record.overlap[order] * record.effective_radius[order])
-        window = int(migrate_cells_of(u - self.u, d - self.d, self.dx, self.n))
+        window = self.window(u, d) if held is None else held[1]
         f_n, f_t, area, fn_n, fn_t, tilted, slipping, work = _spring_step(
             u - self.u, d - self.d, n_c, window, self.g_star, self.mu0, commit, self.springs, s
         )
@@ -304,8 +316,9 @@ def _solve_continuous(
     contact set held): secant steps from (d0, f0) [µm, mN/µm], kept inside the bracket once
     one is known (Illinois regula falsi where a secant step leaves it). Returns (δ_N, F_N);
     where F_N still jumps across the target (the remaining bracket at rounding level), the
-    nearer side. Raises :class:`_HeldSetFails` where F_N falls while δ_N moves towards the
-    target before a bracket is found, or the target lies beyond 2 × ``scale`` [µm]."""
+    nearer side. Raises :class:`_HeldSetFails` where F_N falls ``MAX_FALLS`` times while δ_N
+    moves towards the target before a bracket is found (the held set cannot carry it: its
+    sphere geometry, eqs. 4–8, holds for small overlaps only), or beyond 2 × ``scale`` [µm]."""
     limit = 2.0 * scale  # beyond this the bodies interpenetrate over their full height
     r0 = f0 - target
     if abs(r0) <= FORCE_RTOL * target:
@@ -318,6 +331,7 @@ def _solve_continuous(
     step = math.copysign(max(1e-6 * scale, 1e-3 * abs(d0), 1e-12), -r0)
     x0, x1 = d0, d0 + step
     side = 0
+    falls = 0
     for _ in range(200):
         x1 = min(max(x1, -limit), limit)
         r1 = float(evaluate(x1)) - target
@@ -340,14 +354,17 @@ def _solve_continuous(
                 if not lo < guess < hi:
                     guess = 0.5 * (lo + hi)
         else:
-            if abs(x1) >= limit or (r1 - r0) * (x1 - x0) < 0.0:
-                raise _HeldSetFails  # F_N does not rise towards the target
-            # extrapolate by the secant, at most 100 times the last step
-            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else math.nan
-            reach = 100.0 * abs(x1 - x0)
-            if not math.isfinite(guess) or (guess - x1) * -r1 <= 0.0:
-                guess = x1 + math.copysign(reach, -r1)
-            guess = x1 + math.copysign(min(abs(guess - x1), reach), -r1)
+            # extrapolate by the secant, at most 100 times the last step; where F_N falls as
+            # δ_N rises (tilted contacts, e_z < 0, push down), double the step instead
+            falling = (r1 - r0) * (x1 - x0) <= 0.0
+            falls += falling
+            if abs(x1) >= limit or falls > MAX_FALLS:
+                raise _HeldSetFails
+            last = abs(x1 - x0)
+            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if not falling else math.nan
+            if not math.isfinite(guess):
+                guess = x1 + math.copysign(2.0 * last, -r1)
+            guess = x1 + math.copysign(min(abs(guess - x1), 100.0 * last), -r1)
         x0, r0, x1 = x1, r1, guess
     if abs(r_lo) < abs(r_hi):
         return lo, r_lo + target
@@ -363,9 +380,9 @@ def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
 
 def _force_step(
     driver: _Driver, u: float, target: float, tol: float
-) -> tuple[float, NDArray[np.int64] | None]:
+) -> tuple[float, Held | None]:
     """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], and the
-    contact set to hold through it (grid points; ``None``: eq. 9 free).
+    contact set to hold through it (grid points and migration window; ``None``: eq. 9 free).
 
     With the contact set held (eq. 9 not re-tested; a held contact whose effective approach
     falls to ≤ 0 carries nothing) the coupled F_N(δ_N) is continuous, and the target is met
@@ -377,28 +394,31 @@ def _force_step(
     non-interacting path (:func:`.loadpath._solve_force`) finds δ_N, and where the free F_N
     jumps across the target the set below the jump is held from there. The step is the held
     set at the solved δ_N: the free model's step wherever the two load the same contacts,
-    F_N held to the target in any case.
+    F_N held to the target in any case. The springs' migration window (which depends on
+    Δδ_N) is held with the set and is part of its consistency.
     """
     scale = driver.geo.scale
     seen: dict[float, ContactRecord | None] = {}
 
-    def trial(value: float, held: NDArray[np.int64] | None) -> float:
+    def trial(value: float, held: Held | None) -> float:
         out, seen[value] = driver.evaluate(u, value, False, tol, held)
         return out[0]
 
-    def hold_from(d: float, held: NDArray[np.int64]) -> tuple[float, NDArray[np.int64]]:
-        """δ_N and the set of the held solves from δ_N = d."""
+    def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held]:
+        """δ_N and the held set of the held solves from δ_N = d."""
+        held = (cells, driver.window(u, d))
         for round_ in range(SET_ROUNDS):
             seen.clear()
             d, _ = _solve_continuous(
                 target, lambda v, _h=held: trial(v, _h), d, trial(d, held), scale
             )
             loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
-            if np.array_equal(loaded, _loaded(seen[d])):
+            window = driver.window(u, d)
+            if window == held[1] and np.array_equal(loaded, _loaded(seen[d])):
                 break  # the free model's contacts: consistent
             if round_ == SET_ROUNDS - 1 or loaded.size == 0:
                 break  # the target lies in a jump of the free model: F_N held
-            held = loaded
+            held = (loaded, window)
         return d, held
 
     f = trial(driver.d, None)
