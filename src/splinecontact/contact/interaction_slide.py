@@ -80,7 +80,7 @@ WIDTH_ITERATIONS = 3
 SET_ROUNDS = 4
 
 #: Steps on which the held F_N falls before a held set is given up [1] (:func:`_solve_continuous`).
-MAX_FALLS = 6
+MAX_FALLS = 8
 
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
@@ -355,7 +355,7 @@ def _solve_continuous(
                     guess = 0.5 * (lo + hi)
         else:
             # extrapolate by the secant, at most 100 times the last step; where F_N falls as
-            # δ_N rises (tilted contacts, e_z < 0, push down), double the step instead
+            # δ_N rises (tilted contacts, e_z < 0, push down), four times the step instead
             falling = (r1 - r0) * (x1 - x0) <= 0.0
             falls += falling
             if abs(x1) >= limit or falls > MAX_FALLS:
@@ -363,7 +363,7 @@ def _solve_continuous(
             last = abs(x1 - x0)
             guess = x1 - r1 * (x1 - x0) / (r1 - r0) if not falling else math.nan
             if not math.isfinite(guess):
-                guess = x1 + math.copysign(2.0 * last, -r1)
+                guess = x1 + math.copysign(4.0 * last, -r1)
             guess = x1 + math.copysign(min(abs(guess - x1), 100.0 * last), -r1)
         x0, r0, x1 = x1, r1, guess
     if abs(r_lo) < abs(r_hi):
