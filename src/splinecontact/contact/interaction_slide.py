@@ -18,13 +18,20 @@ configuration (u_T, δ_N) of the upper body:
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
   old and new tangents, and the Coulomb cap μ0 P_i with P_i the coupled normal load.
-* **Force control**: δ_N is solved at every step so that the coupled F_N meets the target
-  (:func:`.loadpath._solve_force`: bracketing, then Illinois regula falsi), each trial a full
-  coupled solve at the step's shift with the springs not committed; the contact-level solve of
-  these steps is tightened to ``FORCE_SOLVE_TOL`` so that F_N(δ_N) is smooth to well below the
-  tolerance. Where F_N(δ_N) jumps across the target (a contact accepted or dropped by eq. 9),
-  the nearer side is taken and a ``RuntimeWarning`` says so (the miss stays visible as
-  ``normal_force − normal_force_target``).
+* **Force control**: δ_N is solved at every step so that the coupled F_N meets the target,
+  each trial a full coupled solve at the step's shift with the springs not committed and the
+  contact-level solve tightened to ``FORCE_SOLVE_TOL``. The free F_N(δ_N) jumps where eq. 9
+  accepts or drops a contact, so, as the non-interacting path does, the step's contact set
+  (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
+  is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
+  nothing, and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
+  re-taken from the free model at the solved δ_N until the two agree (then the step is the
+  free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
+  model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
+  side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
+* **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
+  wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
+  path, naming the path's step; a force-controlled trial there counts as above the target.
 
 The loop over steps runs in Python, each step one compiled coupled solve (cost in
 ``docs/accuracy.md``).
@@ -42,14 +49,14 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import LoadPathError, NoConvergenceError
+from ..errors import LoadPathError, NoConvergenceError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
 from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
-from .interaction import InteractionSettings, interacting_loading
+from .interaction import InteractionSettings, _check_finite, interacting_loading
 from .laws import spring_sums
 from .loadpath import FORCE_RTOL, _prepare, _solve_force
 from .path_kernel import (
@@ -232,9 +239,11 @@ class _Driver:
         settings: InteractionSettings,
         tol: float | None,
         held: NDArray[np.bool_] | None,
-    ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
+    ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
         """The coupled two-step loading (:func:`.interaction.interacting_loading`), repeated
-        with the given settings' width updates if the width loop made it fail."""
+        with the given settings' width updates if the width loop made it fail; ``None``
+        where a contact grew too wide for the period (the model's validity, see
+        :func:`.interaction._check_finite`)."""
         chosen = settings if tol is None else dataclasses.replace(settings, tol=tol)
         try:
             return interacting_loading(
@@ -245,6 +254,10 @@ class _Driver:
             if settings.width_iterations == self.given.width_iterations:
                 raise
             return self._solve(geometry, self.given, tol, held)
+        except ParameterError as error:
+            if "left its validity" not in str(error):
+                raise
+            return None
 
     def window(self, u: float, d: float) -> int:
         """Cells within which a vanished contact may continue (:func:`._migration.migrate`)
@@ -274,9 +287,12 @@ class _Driver:
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
         mask = None if held is None else np.isin(index, held[0])
-        curves, contacts = self._solve(
-            geometry, self.settings if tol is None else self.given, tol, mask
-        )
+        solved = self._solve(geometry, self.settings if tol is None else self.given, tol, mask)
+        if solved is None:  # beyond validity: an infinite F_N (above any force target)
+            if commit:
+                self.u, self.d = u, d
+            return (math.inf, *(math.nan,) * 7, 0, 0, math.nan, 0, 0, 0), None
+        curves, contacts = solved
         record = contacts[0] if contacts else None
         n_c = 0 if record is None else record.point.size
         if n_c > self.scratch.idx.size:
@@ -422,8 +438,8 @@ def _force_step(
         return d, held
 
     f = trial(driver.d, None)
-    if abs(f - target) <= FORCE_RTOL * target:
-        return driver.d, None
+    if abs(f - target) <= FORCE_RTOL * target or math.isinf(f):
+        return driver.d, None  # met, or beyond validity already (raised when committed)
     held = _loaded(seen[driver.d])
     if held.size:
         try:
@@ -520,7 +536,14 @@ def run_interacting_path(
                 )
             )
 
+    period = (1 if settings.periodic else 2) * lower.n_points * lower.dx
+
+    def check(k: int) -> None:
+        """The ParameterError of the normal path where step k left the model's validity."""
+        _check_finite(table[:, 2:7].T, k, k + 1, table[:, 0], period)
+
     store(0, *driver.evaluate(0.0, 0.0, True))
+    check(0)
     k = 0
     for seg in segments:
         u_a, d_a = driver.u, driver.d
@@ -533,11 +556,13 @@ def run_interacting_path(
             if force is None:
                 d = d_b if s == seg.steps else d_a + (d_b - d_a) * (s / seg.steps)
                 store(k, *driver.evaluate(u, d, True))
+                check(k)
                 continue
 
             d, held = _force_step(driver, u, force, force_tol)
             target[k] = force
             store(k, *driver.evaluate(u, d, True, force_tol, held))
+            check(k)
     curves: dict[str, NDArray[Any]] = {
         "displacement": table[:, 0].copy(),
         "tangential_displacement": table[:, 1].copy(),
@@ -556,10 +581,11 @@ def run_interacting_path(
         if n_miss:
             warnings.warn(
                 f"F_N could not be held to {FORCE_HOLD_RTOL:g} at {n_miss} of {int(held.sum())} "
-                f"force-controlled steps (largest relative miss {float(miss.max()):.3g}): the "
-                "coupled F_N(δ_N) jumps where eq. 9 accepts or drops a contact and the target "
-                "fell inside a jump; the nearer side was taken (see normal_force − "
-                "normal_force_target)",
+                f"force-controlled steps (largest relative miss {float(miss.max()):.3g}): "
+                "F_N(δ_N) jumped across the target even with the step's contacts held (the "
+                "width loop stopping after a different number of updates, or the target "
+                "reachable only beyond the model's validity); the nearer side was taken (see "
+                "normal_force − normal_force_target)",
                 RuntimeWarning,
                 stacklevel=4,
             )
