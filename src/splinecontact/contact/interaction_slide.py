@@ -394,9 +394,7 @@ def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
     return np.sort(record.point.astype(np.int64))
 
 
-def _force_step(
-    driver: _Driver, u: float, target: float, tol: float
-) -> tuple[float, Held | None]:
+def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[float, Held | None]:
     """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], and the
     contact set to hold through it (grid points and migration window; ``None``: eq. 9 free).
 
