@@ -305,6 +305,7 @@ def interacting_loading(
     settings: InteractionSettings = InteractionSettings(),
     record_steps: NDArray[np.int64] | None = None,
     contact_set: NDArray[np.bool_] | None = None,
+    mesh: Any = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -328,6 +329,9 @@ def interacting_loading(
     contact_set : array of bool, optional
         A mask over the geometry's candidates: every step after the first takes the masked
         candidates as its contacts without the eq. 9 test (force control holds them fixed).
+    mesh : numba typed list, optional
+        A kernel cache of :func:`.interaction_kernel.mesh_cache` to reuse across calls with the
+        same period and E* (its meshes are computed once).
 
     Returns
     -------
@@ -408,7 +412,7 @@ def interacting_loading(
     sines, punch_weights = _punch_quadrature()
     nodes, node_weights = _quadrature()
     largest_mesh = max(max_cells, cells or 0)
-    cache = mesh_cache(largest_mesh)
+    cache = mesh_cache(largest_mesh) if mesh is None else mesh
     state = np.array([0.0, 0.0, period, 1.0, 0.0])
     field = np.zeros(largest_mesh)
     per_contact = [np.zeros(n_cand) for _ in range(5)]  # load, older, tangential, width, shift

@@ -57,6 +57,7 @@ from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
 from .interaction import InteractionSettings, _check_finite, interacting_loading
+from .interaction_kernel import mesh_cache
 from .laws import spring_sums
 from .loadpath import FORCE_RTOL, _prepare, _solve_force
 from .path_kernel import (
@@ -208,6 +209,9 @@ class _Driver:
         self.u = 0.0
         self.d = 0.0
         self._columns: tuple[float, float, tuple[NDArray[np.float64], ...]] | None = None
+        # the meshes of the coupled solve (same period and E* at every step), built once
+        cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
+        self.mesh = mesh_cache(cells)
 
     @staticmethod
     def _scratch(capacity: int) -> Scratch:
@@ -248,7 +252,7 @@ class _Driver:
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([1]), contact_set=held,
+                settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
             )  # fmt: skip
         except NoConvergenceError:
             if settings.width_iterations == self.given.width_iterations:
