@@ -117,3 +117,34 @@ def test_continuous_solve_returns_the_nearer_side_of_a_jump() -> None:
     d, f = _solve_continuous(0.9, evaluate, 0.1, 0.1, 10.0)
     assert d == pytest.approx(0.3, abs=1e-12)
     assert f == pytest.approx(1.3, abs=1e-12)  # 0.4 above the target against 0.6 below
+
+
+def test_holding_the_free_set_is_the_free_step() -> None:
+    """At any (u_T, δ_N), holding the contacts that eq. 9 loads there gives the free model's
+    step (to the contact-level tolerance); holding no contact loads nothing."""
+    from splinecontact.contact import InteractionSettings
+    from splinecontact.contact.interaction_slide import _Driver, _loaded
+    from splinecontact.contact.simulation import spline_fits
+
+    lower = weierstrass_mandelbrot(1.5, n_points=1024, length=4.0, seed=3)
+    upper = weierstrass_mandelbrot(1.3, n_points=1024, length=4.0, seed=8)
+    first = simulate(
+        lower, upper, interaction=True, diagnostics=False, path=[Segment(normal=1e-3, steps=1)]
+    )
+    p = first.parameters
+    fits = spline_fits(lower, upper, alpha=p["alpha"], x0=p["x0"])
+    top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
+    driver = _Driver(
+        lower, fits, InteractionSettings(), top, e_star=p["e_star"], g_star=p["g_star"], mu0=0.3
+    )
+    driver.evaluate(0.0, 0.0, True)
+    driver.evaluate(0.0, 0.5 * top, True)
+    for d in (0.6 * top, 0.8 * top):
+        free, record = driver.evaluate(0.01, d, False, 1e-11)
+        window = driver.window(0.01, d)
+        held, held_record = driver.evaluate(0.01, d, False, 1e-11, (_loaded(record), window))
+        assert free[8] > 0 and np.array_equal(_loaded(record), _loaded(held_record))
+        assert held[0] == pytest.approx(free[0], rel=1e-9)
+        assert held[1] == pytest.approx(free[1], rel=1e-9, abs=1e-15)
+        none, _ = driver.evaluate(0.01, d, False, 1e-11, (np.zeros(0, np.int64), window))
+        assert none[0] == 0.0 and none[8] == 0
