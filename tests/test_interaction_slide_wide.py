@@ -26,11 +26,18 @@ def _run(path: list[sc.Segment]) -> sc.SimulationResult:
         return sc.simulate(_circle(), "flat", path=path, interaction=True, diagnostics=False)
 
 
-def test_sliding_too_wide_raises_at_the_path_step() -> None:
-    """Pressed to 4e−3 µm (half-widths of the order of L_p/π) while sliding: the step of the
-    path and its δ_N are named, as the normal path names its step."""
-    with pytest.raises(ParameterError, match=r"left its validity at step 6 \(displacement 0.0012"):
-        _run([sc.Segment(normal=4e-3, tangential=1e-4, steps=20)])
+def test_sliding_too_wide_raises_where_the_normal_path_does() -> None:
+    """Pressed to 5e−4 µm in 40 steps: the normal path leaves the validity at step 10; sliding
+    along the same displacements, the driver raises the same error one step earlier (its three
+    width updates per step against the normal path's one let the widths grow faster), naming
+    the path's step and δ_N."""
+    with pytest.raises(ParameterError, match=r"left its validity at step 10 \(displacement"):
+        _run([sc.Segment(normal=5e-4, steps=40)])
+    for travel in (1e-6, 1e-4):
+        with pytest.raises(
+            ParameterError, match=r"left its validity at step 9 \(displacement 0.0001125 µm\)"
+        ):
+            _run([sc.Segment(normal=5e-4, tangential=travel, steps=40)])
 
 
 def test_sliding_inside_validity_is_finite() -> None:
@@ -65,17 +72,22 @@ def test_cli_sliding_gives_one_line_and_writes_nothing(tmp_path: Path) -> None:
     )
     target = tmp_path / "out.nc"
     args = ["friction", "--lower", str(source), "--upper", "flat", "-o", str(target)]
-    args += ["--path", "normal=0.004,tangential=0.0001,steps=20", "--interaction"]
+    args += ["--path", "normal=0.0005,tangential=0.0001,steps=40", "--interaction"]
     result = CliRunner().invoke(app, args)
     assert result.exit_code != 0
     errors = [line for line in result.output.splitlines() if line.startswith("error:")]
-    assert len(errors) == 1 and "left its validity at step 6" in errors[0]
+    assert len(errors) == 1 and "left its validity at step 9" in errors[0]
     assert "Traceback" not in result.output
     assert not target.exists()
 
 
 def test_force_control_beyond_validity_raises() -> None:
-    """A force-controlled step whose configuration is already beyond validity raises the
-    ParameterError (not a ForceControlError about the bodies' full height)."""
-    with pytest.raises(ParameterError, match="left its validity at step 6"):
-        _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=0.0199, steps=2)])
+    """A force target that F_N reaches only beyond the validity raises the ParameterError at
+    that step (not a miss, nor a ForceControlError about the bodies' full height); a target
+    inside it is held. The bound: a Hertz half-width √(2PR/(πE*)) of L_p/π, P = 0.0102 mN/µm
+    for this circle (R = 0.5 µm on the flat, E* = 10 GPa, L_p = 0.0802 µm)."""
+    inside = _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=0.008, steps=2)])
+    assert inside.normal_force[-2:] == pytest.approx([0.008, 0.008], rel=1e-6)
+    for target in (0.011, 0.05):
+        with pytest.raises(ParameterError, match="left its validity at step 5"):
+            _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=target, steps=2)])

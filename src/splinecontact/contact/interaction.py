@@ -306,6 +306,7 @@ def interacting_loading(
     record_steps: NDArray[np.int64] | None = None,
     contact_set: NDArray[np.bool_] | None = None,
     mesh: Any = None,
+    carry: dict[str, Any] | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -332,6 +333,10 @@ def interacting_loading(
     mesh : numba typed list, optional
         A kernel cache of :func:`.interaction_kernel.mesh_cache` to reuse across calls with the
         same period and E* (its meshes are computed once).
+    carry : dict, optional
+        In and out: the state after the last step of a previous call (loads, widths, mesh
+        displacement, candidates by grid point). Given non-empty, step 0 is that state (not
+        solved again) and the steps run from 1; replaced by the state after the last step.
 
     Returns
     -------
@@ -427,6 +432,19 @@ def interacting_loading(
     stops = [*(int(s) + 1 for s in np.flatnonzero(record)), n_steps]
     held = {} if contact_set is None else {"hold": np.asarray(contact_set, dtype=np.bool_)[order]}
     first = 0
+    if carry:  # the previous call's state on these candidates, matched by grid point
+        _, old, new = np.intersect1d(carry["points"], points, return_indices=True)
+        for mine, theirs in zip(per_contact, carry["per_contact"], strict=True):
+            mine[new] = theirs[old]
+        lookup = np.full(int(max(points.max(), carry["points"].max())) + 1, -1)
+        lookup[points] = np.arange(n_cand)
+        last = lookup[carry["last_points"]]
+        last = last[last >= 0]
+        last_j[: last.size] = last
+        state[:] = carry["state"]
+        state[4] = last.size
+        field[: carry["field"].size] = carry["field"]
+        first = 1
     for stop in stops:
         if first >= n_steps:
             break  # stop_force reached
@@ -473,6 +491,11 @@ def interacting_loading(
                     normal_z=ez[:count][on].copy(),
                 )
             )
+    if carry is not None:
+        carry.update(
+            points=points, per_contact=per_contact, state=state, field=field[: int(state[3])],
+            last_points=points[last_j[: int(state[4])]],
+        )  # fmt: skip
     names = (
         "normal_force",
         "tangential_force",

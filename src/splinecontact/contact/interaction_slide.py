@@ -212,6 +212,11 @@ class _Driver:
         # the meshes of the coupled solve (same period and E* at every step), built once
         cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
         self.mesh = mesh_cache(cells)
+        # the state of the committed step, continued by the next one
+        self.carry: dict[str, Any] = {}
+        # the last δ_N [µm] found beyond the model's validity (force control)
+        self.beyond: float | None = None
+        self.period = (1 if settings.periodic else 2) * self.n * self.dx
 
     @staticmethod
     def _scratch(capacity: int) -> Scratch:
@@ -243,6 +248,7 @@ class _Driver:
         settings: InteractionSettings,
         tol: float | None,
         held: NDArray[np.bool_] | None,
+        carry: dict[str, Any],
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
         """The coupled two-step loading (:func:`.interaction.interacting_loading`), repeated
         with the given settings' width updates if the width loop made it fail; ``None``
@@ -253,15 +259,26 @@ class _Driver:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
                 settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
+                carry=carry,
             )  # fmt: skip
         except NoConvergenceError:
             if settings.width_iterations == self.given.width_iterations:
                 raise
-            return self._solve(geometry, self.given, tol, held)
+            return self._solve(geometry, self.given, tol, held, carry)
         except ParameterError as error:
             if "left its validity" not in str(error):
                 raise
             return None
+
+    def _valid(self, contacts: tuple[ContactRecord, ...]) -> bool:
+        """Every loaded contact's Hertz half-width √(2 P R_eff/(πE*)) [µm] below L_p/π, the
+        validity of the periodic half-plane model (where the normal path's loads, whose widths
+        grow from step to step, become infinite)."""
+        if not contacts:
+            return True
+        c = contacts[0]
+        widest = float(np.max(2.0 * c.normal_force * c.effective_radius, initial=0.0))
+        return math.sqrt(widest / (math.pi * self.e_star)) < self.period / math.pi
 
     def window(self, u: float, d: float) -> int:
         """Cells within which a vanished contact may continue (:func:`._migration.migrate`)
@@ -291,8 +308,13 @@ class _Driver:
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
         mask = None if held is None else np.isin(index, held[0])
-        solved = self._solve(geometry, self.settings if tol is None else self.given, tol, mask)
-        if solved is None:  # beyond validity: an infinite F_N (above any force target)
+        carry = dict(self.carry)
+        solved = self._solve(
+            geometry, self.settings if tol is None else self.given, tol, mask, carry
+        )
+        if solved is None or not self._valid(solved[1]):
+            # beyond validity: an infinite F_N (above any force target)
+            self.beyond = d
             if commit:
                 self.u, self.d = u, d
             return (math.inf, *(math.nan,) * 7, 0, 0, math.nan, 0, 0, 0), None
@@ -322,6 +344,7 @@ class _Driver:
         )  # fmt: skip
         if commit:
             self.u, self.d = u, d
+            self.carry = carry
         return values, record
 
 
@@ -538,7 +561,7 @@ def run_interacting_path(
                 )
             )
 
-    period = (1 if settings.periodic else 2) * lower.n_points * lower.dx
+    period = driver.period
 
     def check(k: int) -> None:
         """The ParameterError of the normal path where step k left the model's validity."""
@@ -561,9 +584,12 @@ def run_interacting_path(
                 check(k)
                 continue
 
+            driver.beyond = None
             d, held = _force_step(driver, u, force, force_tol)
             target[k] = force
             store(k, *driver.evaluate(u, d, True, force_tol, held))
+            if driver.beyond is not None and abs(table[k, 2] - force) > FORCE_HOLD_RTOL * force:
+                table[k, 0], table[k, 2] = driver.beyond, math.inf  # reachable only beyond
             check(k)
     curves: dict[str, NDArray[Any]] = {
         "displacement": table[:, 0].copy(),
