@@ -9,11 +9,12 @@ configuration (u_T, δ_N) of the upper body:
   curvatures (eqs. 4–8) are those of the shifted geometry.
 * **Contacts and normal loads** from the interacting solve of :mod:`.interaction` (eq. 9,
   Table 1, eq. 10 with the elastic half-plane, interaction along the contact normals) on that
-  geometry, as a two-step loading at the current shift: δ_N of the previous step, then δ_N of
-  this one, so that this step is warm-started from the previous δ_N and summits lifted by the
-  surface's rise are tested against its displacement (as in the normal loading). The contact
-  widths get at least ``WIDTH_ITERATIONS`` updates per displacement-controlled step, the
-  settings' own number in force-controlled steps.
+  geometry, one step continuing the state of the committed step (its loads, widths and mesh
+  displacement, matched to the candidates at the current shift by grid point): the step is
+  warm-started from the previous one and summits lifted by the surface's rise are tested
+  against its displacement, as in the normal loading (the first step starts from contact-free
+  at δ_N = 0). The contact widths get at least ``WIDTH_ITERATIONS`` updates per
+  displacement-controlled step, the settings' own number in force-controlled steps.
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -77,11 +78,11 @@ __all__ = ["FORCE_SOLVE_TOL", "WIDTH_ITERATIONS", "run_interacting_path"]
 FORCE_SOLVE_TOL = 1e-11
 
 #: Width updates per step [1] (at least; they stop once the widths change by less than
-#: ``width_tol``). Every step restarts the widths from the Hertz widths of the previous δ_N at
-#: the current shift: on 2048-point profiles one update left F_N 6–7 % off the converged
-#: widths, two 1 %, three 0.1–0.14 %; five or more made the width loop diverge at some steps
-#: of a 10⁵-point rough pair (a step whose solve fails is repeated with the settings' own
-#: number of updates).
+#: ``width_tol``). Chosen when every step restarted the widths from the Hertz widths of the
+#: previous δ_N (before the committed state was continued): on 2048-point profiles one update
+#: left F_N 6–7 % off the converged widths, two 1 %, three 0.1–0.14 %; five or more made the
+#: width loop diverge at some steps of a 10⁵-point rough pair (a step whose solve fails is
+#: repeated with the settings' own number of updates).
 WIDTH_ITERATIONS = 3
 
 #: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
@@ -250,7 +251,7 @@ class _Driver:
         held: NDArray[np.bool_] | None,
         carry: dict[str, Any],
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
-        """The coupled two-step loading (:func:`.interaction.interacting_loading`), repeated
+        """The coupled step (:func:`.interaction.interacting_loading`, continuing ``carry``), repeated
         with the given settings' width updates if the width loop made it fail; ``None``
         where a contact grew too wide for the period (the model's validity, see
         :func:`.interaction._check_finite`)."""
