@@ -310,6 +310,11 @@ class _Driver:
         # many trials cost several times as much and the width loop can fail to converge
         mask = None if held is None else np.isin(index, held[0])
         carry = dict(self.carry)
+        if tol is not None and carry:
+            # force control: no extrapolation of the loads from the last increment (it scales
+            # the starting widths by a factor that jumps where a predicted load crosses zero),
+            # so that F_N(δ_N) of a held contact set is continuous
+            carry["state"] = np.concatenate(([0.0], carry["state"][1:]))
         solved = self._solve(
             geometry, self.settings if tol is None else self.given, tol, mask, carry
         )
