@@ -25,7 +25,8 @@ configuration (u_T, δ_N) of the upper body:
   accepts or drops a contact, so, as the non-interacting path does, the step's contact set
   (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
-  nothing, and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
+  nothing, the trials start from the committed loads and widths without extrapolating
+  them), and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
@@ -251,8 +252,8 @@ class _Driver:
         held: NDArray[np.bool_] | None,
         carry: dict[str, Any],
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
-        """The coupled step (:func:`.interaction.interacting_loading`, continuing ``carry``), repeated
-        with the given settings' width updates if the width loop made it fail; ``None``
+        """The coupled step (:func:`.interaction.interacting_loading`) continuing ``carry``,
+        repeated with the given settings' width updates if the width loop made it fail; ``None``
         where a contact grew too wide for the period (the model's validity, see
         :func:`.interaction._check_finite`)."""
         chosen = settings if tol is None else dataclasses.replace(settings, tol=tol)
