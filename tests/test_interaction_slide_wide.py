@@ -86,8 +86,8 @@ def test_force_control_beyond_validity_raises() -> None:
     that step (not a miss, nor a ForceControlError about the bodies' full height); a target
     inside it is held. The bound: a Hertz half-width √(2PR/(πE*)) of L_p/π, P = 0.0102 mN/µm
     for this circle (R = 0.5 µm on the flat, E* = 10 GPa, L_p = 0.0802 µm)."""
-    inside = _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=0.008, steps=2)])
-    assert inside.normal_force[-2:] == pytest.approx([0.008, 0.008], rel=1e-6)
+    inside = _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=0.005, steps=2)])
+    assert inside.normal_force[-2:] == pytest.approx([0.005, 0.005], rel=1e-6)
     for target in (0.011, 0.05):
         with pytest.raises(ParameterError, match="left its validity at step 5"):
             _run([sc.Segment(normal=1e-4, steps=4), sc.Segment(normal_force=target, steps=2)])

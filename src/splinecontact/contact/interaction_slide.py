@@ -310,12 +310,11 @@ class _Driver:
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
         mask = None if held is None else np.isin(index, held[0])
-        carry = dict(self.carry)
-        if tol is not None and carry:
-            # force control: no extrapolation of the loads from the last increment (it scales
-            # the starting widths by a factor that jumps where a predicted load crosses zero),
-            # so that F_N(δ_N) of a held contact set is continuous
-            carry["state"] = np.concatenate(([0.0], carry["state"][1:]))
+        # a displacement step continues the committed state; a force-controlled step is a
+        # two-step loading (the previous δ_N from contact-free, then d) whose first step does
+        # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
+        # the history of the widths (unloading in force needed more δ_N, not less)
+        carry = {} if tol is not None else dict(self.carry)
         solved = self._solve(
             geometry, self.settings if tol is None else self.given, tol, mask, carry
         )
