@@ -14,7 +14,9 @@ configuration (u_T, δ_N) of the upper body:
   warm-started from the previous one and summits lifted by the surface's rise are tested
   against its displacement, as in the normal loading (the first step starts from contact-free
   at δ_N = 0). The contact widths get at least ``WIDTH_ITERATIONS`` updates per
-  displacement-controlled step, the settings' own number in force-controlled steps.
+  displacement-controlled step. A force-controlled step does not continue the state: every
+  trial is a two-step loading at the current shift (the previous δ_N from contact-free, then
+  the trial's) with the settings' own number of width updates.
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -25,8 +27,7 @@ configuration (u_T, δ_N) of the upper body:
   accepts or drops a contact, so, as the non-interacting path does, the step's contact set
   (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
-  nothing, the trials start from the committed loads and widths without extrapolating
-  them), and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
+  nothing; the first step of every trial does not depend on it), and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
