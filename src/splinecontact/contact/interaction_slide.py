@@ -27,7 +27,8 @@ configuration (u_T, δ_N) of the upper body:
   accepts or drops a contact, so, as the non-interacting path does, the step's contact set
   (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
-  nothing; the first step of every trial does not depend on it), and F_N(δ_N) is continuous (secant steps, :func:`_solve_continuous`). The set is
+  nothing; the first step of every trial does not depend on it), and F_N(δ_N) is
+  continuous (secant steps, :func:`_solve_continuous`). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
