@@ -291,6 +291,7 @@ def run_steps(
     out_ft: NDArray[np.float64],
     curves: NDArray[np.float64],
     counts: NDArray[np.int64],
+    hold: NDArray[np.bool_] | None = None,
 ) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
     """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
 
@@ -303,6 +304,9 @@ def run_steps(
     (count of the last step's accepted contacts, step that failed to converge or −1, its
     residual, the step at which ``stop_force`` was reached or −1). ``curvature`` is not read
     (the punch widths differentiate the interpolated ``slope``); it keeps the argument list.
+    ``hold`` (a mask over the candidates, gap order): every step after step 0 takes the masked
+    candidates as its contacts, eq. 9 not tested (the unilateral condition still unloads those
+    whose effective approach is ≤ 0), so that the loads are continuous in δ_N.
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -318,9 +322,12 @@ def run_steps(
         if threshold > reach:
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
+        if hold is not None and step > 0:  # the held set, whatever eq. 9 says
+            n_active = closing_gap.size
         count = _accept(
             d, -margin, field[:field_n], field_cell, point_x, n_active,
             (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
+            hold if step > 0 else None,
         )  # fmt: skip
         j = idx[:count].copy()
         previous = np.empty(count)
