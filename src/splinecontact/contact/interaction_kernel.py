@@ -422,7 +422,7 @@ def run_steps(
                     src_q[s] = ez_src[s] * load[owner[s]]
                 b, c_new = _profile_widths(
                     load, a_new, x, a, cc, slope, dx, e_star, sines, weights,
-                    start, src, pos, a_src, src_q, period,
+                    start, src, pos, a_src, src_q, period, width_tol,
                 )  # fmt: skip
                 a_new = np.maximum(b, floor)
             done = True
