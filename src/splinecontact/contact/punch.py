@@ -29,9 +29,10 @@ PUNCH_NODES = 16
 _NEWTON_ITERATIONS = 30
 _SECANT_ITERATIONS = 40
 
-#: A punch width is accepted when its load is within this fraction of the width tolerance of
-#: the contact's load (at least 1e−6; P ∝ b² near Hertz, so the width is within half of it)
-#: and its centre within ``_CENTRE_TOL`` × the width tolerance × b (at least 1e−9 b).
+#: A contact's previous (Hertz-scaled) width and centre are kept when their punch load is
+#: within this fraction of the width tolerance of the contact's load (P ∝ b² near Hertz, so
+#: the width is within half of it) and one centre step is below ``_CENTRE_TOL`` × the width
+#: tolerance × b; otherwise the width is solved for (load to 1e−6, centre to 1e−9 b).
 _LOAD_TOL = 0.1
 _CENTRE_TOL = 0.05
 
@@ -101,7 +102,8 @@ def _punch(
     weights: NDArray[np.float64],
     near: tuple,
     centre_tol: float,
-) -> tuple[float, float]:  # pragma: no cover - compiled
+    iterations: int,
+) -> tuple[float, float, bool]:  # pragma: no cover - compiled
     """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
 
     The contact [x + c − b, x + c + b] of a rigid profile with gap slope f′ has bounded pressure
@@ -110,8 +112,9 @@ def _punch(
     relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with s = b sin θ and
     Gauss–Legendre nodes in θ; c by a safeguarded secant method (first step: Newton with the
     exact derivative of the linearly interpolated f′ of the profile; bisection where a step
-    leaves the bracket of the root), P in the same pass. Returns (c, P), NaN beyond the
-    candidates.
+    leaves the bracket of the root), P in the same pass, at most ``iterations`` steps, until a
+    step is below ``centre_tol`` × b. Returns (c, P, whether the last step was below it), NaN
+    beyond the candidates.
     """
     c0 = 2.0 / (math.pi * e_star)
     reach = NEAR_WIDTHS * b
@@ -120,7 +123,8 @@ def _punch(
     hi = math.inf
     c_old = i0_old = 0.0
     c_kept = math.inf
-    for iteration in range(_NEWTON_ITERATIONS):
+    settled = False
+    for iteration in range(iterations):
         if abs(c - c_kept) > 0.5 * b:
             # the sources within reach of any punch centre c_kept ± b/2
             _relevant(x + c, 1.5 * b, near, reach)
@@ -134,12 +138,12 @@ def _punch(
             t = pos / dx
             j = math.floor(t)
             if j < 0 or j + 1 >= slope.size:
-                return math.nan, math.nan
+                return math.nan, math.nan, False
             frac = t - j
             v = slope[j] * (1.0 - frac) + slope[j + 1] * frac
             w = (slope[j + 1] - slope[j]) / dx
             if math.isnan(v):
-                return math.nan, math.nan
+                return math.nan, math.nan, False
             v += _neighbour_slope(pos, near, c0, reach)
             i0 += weights[k] * v
             i1 += weights[k] * w
@@ -165,10 +169,11 @@ def _punch(
             dc = 0.5 * (lo + hi) - c
         c_old = c
         i0_old = i0
-        if abs(dc) <= centre_tol * b or iteration == _NEWTON_ITERATIONS - 1:
+        settled = abs(dc) <= centre_tol * b
+        if settled or iteration == iterations - 1:
             break
         c += dc
-    return c, 0.5 * e_star * total
+    return c, 0.5 * e_star * total, settled
 
 
 @numba.njit(cache=True, nogil=True)
@@ -210,8 +215,6 @@ def _profile_widths(
     candidates, keep the Hertz width and no shift.
     """
     n = load.size
-    load_tol = max(_LOAD_TOL * width_tol, 1e-6)
-    centre_tol = max(_CENTRE_TOL * width_tol, 1e-9)
     out_b = a_hertz.copy()
     out_c = np.zeros(n)
     x_sorted = np.sort(x)
@@ -229,13 +232,27 @@ def _profile_widths(
         p_old = 0.0
         b_lo = 0.0
         b_hi = math.inf
+        near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period, relevant)
+        if b_start[i] > 0.0:
+            # a contact kept from the last update, its width scaled as Hertz to the expected
+            # load: kept if it still balances this load (centre and load, neighbours' fields
+            # included) to a fraction of the width tolerance
+            _, p, settled = _punch(
+                slope, x[i], dx, b, c, e_star, sines, weights, near, _CENTRE_TOL * width_tol, 1
+            )
+            if settled and abs(p / target - 1.0) <= _LOAD_TOL * width_tol:
+                if not _bridges(x_sorted, x[i], c, b):
+                    out_b[i] = b
+                    out_c[i] = c
+                    continue
         ok = False
         for _ in range(_SECANT_ITERATIONS):
-            near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period, relevant)
-            c, p = _punch(slope, x[i], dx, b, c, e_star, sines, weights, near, centre_tol)
+            c, p, _ = _punch(
+                slope, x[i], dx, b, c, e_star, sines, weights, near, 1e-9, _NEWTON_ITERATIONS
+            )
             if math.isnan(p) or p <= 0.0:
                 break
-            if abs(p / target - 1.0) <= load_tol:
+            if abs(p / target - 1.0) <= 1e-6:
                 ok = True
                 break
             m = 2.0
