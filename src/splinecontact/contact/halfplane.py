@@ -217,6 +217,50 @@ def _near_pairs(
 
 
 @numba.njit(cache=True, nogil=True)
+def _dense_coupling(
+    pos: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    ez_src: NDArray[np.float64],
+    n_targets: int,
+    h: float,
+    mesh_green: NDArray[np.float64],
+    start: NDArray[np.int64],
+    src: NDArray[np.int64],
+    coef: NDArray[np.float64],
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """The particle–mesh coupling as a matrix, transposed: K[j, i] = Σ over the sources s of
+    contact j of e_z,s (mesh coupling of i and s + near correction), so that :func:`_gather`
+    of the mesh field of loads P equals Kᵀ P (the same operator without the FFT; for few
+    contacts).
+    """
+    cells = mesh_green.size
+    mask = cells - 1  # cells is a power of two
+    n_src = pos.size
+    sa = np.empty(n_src, dtype=np.int64)
+    fs = np.empty(n_src)
+    for s in range(n_src):
+        cs = pos[s] / h
+        sa[s] = math.floor(cs)
+        fs[s] = cs - sa[s]
+    out = np.zeros((n_targets, n_targets))
+    for i in range(n_targets):
+        ia = sa[i]
+        fi = fs[i]
+        for s in range(n_src):
+            d = ia - sa[s]
+            g0 = mesh_green[d & mask]
+            gm = mesh_green[(d - 1) & mask]
+            gp = mesh_green[(d + 1) & mask]
+            f = fs[s]
+            mesh = (1.0 - fi) * ((1.0 - f) * g0 + f * gm) + fi * ((1.0 - f) * gp + f * g0)
+            out[owner[s], i] += ez_src[s] * mesh
+        for k in range(start[i], start[i + 1]):
+            s = src[k]
+            out[owner[s], i] += ez_src[s] * coef[k]
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
 def _deposit(
     pos: NDArray[np.float64], q: NDArray[np.float64], cells: int, h: float
 ) -> NDArray[np.float64]:  # pragma: no cover

@@ -218,45 +218,53 @@ def _accept(
     return count
 
 
+@numba.njit(cache=True, nogil=True)
 def _can_centre_in_cell(
-    g_low: NDArray[np.float64],
-    g_high: NDArray[np.float64],
-    columns: list[NDArray[np.float64]],
+    gap0: NDArray[np.float64],
+    d_low: float,
+    d_high: float,
+    columns: tuple,
     dx: float,
-) -> NDArray[np.bool_]:
-    """Candidates whose contact centre can fall in their own cell (eq. 9) for some gap.
+) -> NDArray[np.bool_]:  # pragma: no cover - compiled
+    """Candidates whose contact centre can fall in their own cell (eq. 9) at some displacement.
 
-    A rigorous bound over the gaps g ∈ [``g_low``, ``g_high``] [µm] a candidate passes through:
-    |offset| ≥ (2|Δm_x| − max|δ| |κ^u n_x − κ^l m_x|) / (2 max|Y|), with |δ| ≤ max|N(g)|/(κ^l + κ^u)
-    (N the numerator of δ, quadratic in g; |Y| ≥ 0) and |Y| largest at an end (Y_z linear in g).
-    Candidates that Table 1 always refuses (κ^l + κ^u ≤ 0) or whose bound exceeds half the grid
-    spacing ``dx`` [µm] are never accepted by :func:`_accept`; the others are kept (most of
-    the candidates are points beside their summit).
+    A rigorous bound over the gaps g ∈ [gap0 − ``d_high``, gap0 − ``d_low``] [µm] a candidate
+    passes through: |offset| ≥ (2|Δm_x| − max|δ| |κ^u n_x − κ^l m_x|) / (2 max|Y|), with
+    |δ| ≤ max|N(g)|/(κ^l + κ^u) (N the numerator of δ, quadratic in g; |Y| ≥ 0) and |Y| largest
+    at an end (Y_z linear in g). Candidates that Table 1 always refuses (κ^l + κ^u ≤ 0) or
+    whose bound exceeds half the grid spacing ``dx`` [µm] are never accepted by
+    :func:`_accept`; the others are kept (most candidates are points beside their summit).
+    ``columns`` = (κ^l, κ^u, m_x, m_z, n_x, n_z).
     """
     kl, ku, mx, mz, nx, nz = columns
-    k_sum = kl + ku
-    k_prod = kl * ku
-    b = kl * mz + ku * nz
-    y_x = kl * mx + ku * nx
-    dmx = mx - nx
-    dmz = mz - nz
-    a = dmx * dmx + dmz * dmz
-
-    def numerator(g: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.abs(a - k_prod * g * g - 2.0 * g * b)
-
-    n_max = np.maximum(numerator(g_low), numerator(g_high))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        turn = np.where(k_prod != 0.0, -b / k_prod, g_low)
-    inside = (turn > g_low) & (turn < g_high)
-    n_max = np.where(inside, np.maximum(n_max, numerator(np.where(inside, turn, g_low))), n_max)
-    y_z = np.maximum(np.abs(k_prod * g_low + b), np.abs(k_prod * g_high + b))
-    y_max = np.sqrt(y_x * y_x + y_z * y_z)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        delta_max = n_max / k_sum
-        bound = (2.0 * np.abs(dmx) - delta_max * np.abs(ku * nx - kl * mx)) / (2.0 * y_max)
-    refused = (k_sum <= 0.0) | (bound > 0.5 * dx * (1.0 + 1e-6))
-    return ~np.where(np.isnan(bound), k_sum <= 0.0, refused)
+    keep = np.zeros(gap0.size, dtype=np.bool_)
+    for j in range(gap0.size):
+        k_sum = kl[j] + ku[j]
+        if not k_sum > 0.0:
+            continue
+        k_prod = kl[j] * ku[j]
+        b = kl[j] * mz[j] + ku[j] * nz[j]
+        dmx = mx[j] - nx[j]
+        dmz = mz[j] - nz[j]
+        a = dmx * dmx + dmz * dmz
+        g_lo = gap0[j] - d_high
+        g_hi = gap0[j] - d_low
+        n_max = max(
+            abs(a - k_prod * g_lo * g_lo - 2.0 * g_lo * b),
+            abs(a - k_prod * g_hi * g_hi - 2.0 * g_hi * b),
+        )
+        if k_prod != 0.0:
+            turn = -b / k_prod
+            if g_lo < turn < g_hi:
+                n_max = max(n_max, abs(a - k_prod * turn * turn - 2.0 * turn * b))
+        y_x = kl[j] * mx[j] + ku[j] * nx[j]
+        y_z = max(abs(k_prod * g_lo + b), abs(k_prod * g_hi + b))
+        y_max = math.sqrt(y_x * y_x + y_z * y_z)
+        bound = (2.0 * abs(dmx) - n_max / k_sum * abs(ku[j] * nx[j] - kl[j] * mx[j])) / (
+            2.0 * y_max
+        )
+        keep[j] = not bound > 0.5 * dx * (1.0 + 1e-6)
+    return keep
 
 
 def extended_geometry(
@@ -425,28 +433,30 @@ def interacting_loading(
     record = np.zeros(n_steps, dtype=bool)
     if record_steps is not None and len(record_steps):
         record[np.asarray(record_steps)] = True
+    all_gap0 = np.sort(np.asarray(geometry.gap0, dtype=np.float64), kind="stable")
+    reach = float(all_gap0[-1]) if all_gap0.size else 0.0
+    names = ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
+    raw = [np.asarray(getattr(geometry, name), dtype=np.float64) for name in names]
+    raw_gap0 = np.asarray(geometry.gap0, dtype=np.float64)
+    # only the candidates whose contact centre can fall in their own cell are tested at every
+    # step (the same contacts are accepted, in the same order)
+    keep = np.flatnonzero(
+        _can_centre_in_cell(
+            raw_gap0,
+            min(0.0, float(displacement.min(initial=0.0))),
+            float(displacement.max(initial=0.0)),
+            tuple(raw),
+            dx,
+        )
+    )
     # candidates in order of their gap at δ_N = 0 (the order in which they can touch); the
     # reach of the candidate set is its largest gap
-    order = np.argsort(np.asarray(geometry.gap0), kind="stable")
-    gap0 = np.ascontiguousarray(np.asarray(geometry.gap0, dtype=np.float64)[order])
-    columns = [
-        np.ascontiguousarray(np.asarray(getattr(geometry, name), dtype=np.float64)[order])
-        for name in ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
-    ]
+    order = keep[np.argsort(raw_gap0[keep], kind="stable")]
+    gap0 = np.ascontiguousarray(raw_gap0[order])
+    columns = [np.ascontiguousarray(column[order]) for column in raw]
     points = np.asarray(geometry.point)[order]
     height_lower = np.asarray(geometry.height_lower)[order]
-    reach = float(gap0[-1]) if gap0.size else 0.0
-    all_gap0 = gap0
-    if gap0.size:
-        # only the candidates whose contact centre can fall in their own cell are tested at
-        # every step (the same contacts are accepted, in the same order)
-        high = gap0 - min(0.0, float(displacement.min()))
-        keep = _can_centre_in_cell(gap0 - float(displacement.max()), high, columns, dx)
-        gap0 = np.ascontiguousarray(gap0[keep])
-        columns = [np.ascontiguousarray(column[keep]) for column in columns]
-        points = points[keep]
-        height_lower = height_lower[keep]
-        n_cand = gap0.size
+    n_cand = gap0.size
     point_x = points.astype(np.float64) * dx
     sines, punch_weights = _punch_quadrature()
     nodes, node_weights = _quadrature()

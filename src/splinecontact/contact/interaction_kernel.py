@@ -26,6 +26,7 @@ from .halfplane import (
     NEAR_CELLS,
     NEAR_WIDTHS,
     _collect,
+    _dense_coupling,
     _near_pairs,
     _pk_direction,
     _pk_update,
@@ -49,6 +50,12 @@ _PER_LEVEL = 17
 
 #: Smallest mesh: 2**_MIN_LEVEL cells.
 _MIN_LEVEL = 6
+
+#: Steps with at most this many accepted contacts apply the particle–mesh operator as a
+#: matrix (the mesh coupling of every pair plus the near corrections, built once per width
+#: update) instead of spreading and convolving at every conjugate-gradient iteration; the
+#: mesh field is then convolved once, for the converged loads [1].
+DENSE_CONTACTS = 512
 
 
 def mesh_cache(max_cells: int) -> List:
@@ -120,9 +127,22 @@ def _apply(
     """(local·P + e_z w(P) at the contacts, the mesh displacement).
 
     ``op`` = (source positions [µm], their contacts, their e_z, mesh spacing [µm], near-pair
-    CSR start, sources and corrections) of the step.
+    CSR start, sources and corrections, the operator as a matrix or an empty one) of the step;
+    with the matrix the mesh displacement is not computed (empty).
     """
-    pos, owner, ez_src, h, start, src, coef = op
+    pos, owner, ez_src, h, start, src, coef, dense = op
+    if dense.shape[0] > 0:
+        n = load.size
+        w = np.zeros(n)
+        for k in range(n):
+            p = load[k]
+            if p != 0.0:
+                row = dense[k]
+                for i in range(n):
+                    w[i] += row[i] * p
+        for i in range(n):
+            w[i] = local * load[i] + ez[i] * w[i]
+        return w, np.zeros(0)
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
     phi = _convolve(cache, base, rho)
@@ -407,7 +427,12 @@ def run_steps(
             start, src, coef = _near_pairs(
                 pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
             )
-            op = (pos, owner, ez_src, h_mesh, start, src, coef)
+            dense = np.zeros((0, 0))
+            if count <= DENSE_CONTACTS:
+                dense = _dense_coupling(
+                    pos, owner, ez_src, count, h_mesh, cache[base], start, src, coef
+                )
+            op = (pos, owner, ez_src, h_mesh, start, src, coef, dense)
             load, iterations, residual, phi = _pk_solve(
                 cache, base, dl, load, tol, e_z, a, period, c0, op
             )
@@ -443,7 +468,10 @@ def run_steps(
             shift_all[j[k]] = cc[k] if on[k] else 0.0
             x[k] += cc[k]
         if np.any(on):
-            # the mesh displacement of the converged loads (the solve's last application)
+            # the mesh displacement of the converged loads (the solve's last application; with
+            # the operator as a matrix, convolved here)
+            if phi.size == 0:
+                phi = _convolve(cache, base, _spread(load, owner, ez_src, pos, cells, h_mesh)[1])
             field[: phi.size] = phi
             state[2] = h_mesh
             state[3] = phi.size
