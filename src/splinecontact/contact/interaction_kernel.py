@@ -27,6 +27,7 @@ from .halfplane import (
     NEAR_WIDTHS,
     _collect,
     _dense_coupling,
+    _near_lists,
     _near_pairs,
     _pk_direction,
     _pk_update,
@@ -127,27 +128,37 @@ def _apply(
     """(local·P + e_z w(P) at the contacts, the mesh displacement).
 
     ``op`` = (source positions [µm], their contacts, their e_z, mesh spacing [µm], near-pair
-    CSR start, sources and corrections, the operator as a matrix or an empty one) of the step;
-    with the matrix the mesh displacement is not computed (empty).
+    CSR start, sources and corrections) of the step.
     """
-    pos, owner, ez_src, h, start, src, coef, dense = op
-    if dense.shape[0] > 0:
-        n = load.size
-        w = np.zeros(n)
-        for k in range(n):
-            p = load[k]
-            if p != 0.0:
-                row = dense[k]
-                for i in range(n):
-                    w[i] += row[i] * p
-        for i in range(n):
-            w[i] = local * load[i] + ez[i] * w[i]
-        return w, np.zeros(0)
+    pos, owner, ez_src, h, start, src, coef = op
     cells = cache[base].size
     q, rho = _spread(load, owner, ez_src, pos, cells, h)
     phi = _convolve(cache, base, rho)
     u = _collect(phi, pos, load.size, h, start, src, coef, q, load, ez, local)
     return u, phi
+
+
+@numba.njit(cache=True)
+def _operate(
+    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """:func:`_apply`, or with the operator as a matrix (``op`` = (the operands of
+    :func:`_apply`, Kᵀ of :func:`.halfplane._dense_coupling` or an empty matrix)) the same
+    local·P + e_z Kᵀ P without the mesh displacement (empty)."""
+    dense = op[7]
+    if dense.shape[0] == 0:
+        return _apply(cache, base, load, local, ez, op[:7])
+    n = load.size
+    w = np.zeros(n)
+    for k in range(n):
+        p = load[k]
+        if p != 0.0:
+            row = dense[k]
+            for i in range(n):
+                w[i] += row[i] * p
+    for i in range(n):
+        w[i] = local * load[i] + ez[i] * w[i]
+    return w, np.zeros(0)
 
 
 @numba.njit(cache=True)
@@ -167,7 +178,7 @@ def _pk_solve(
 
     Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
     incrementally while the loaded set does not change, and recomputed before convergence is
-    declared (``op`` as :func:`_apply`). Returns (P, iterations, residual, mesh displacement
+    declared (``op`` as :func:`_operate`). Returns (P, iterations, residual, mesh displacement
     of P); iterations −1 when the solve did not converge. A converged P was the last load the
     operator was applied to, so the mesh displacement of that application is the surface
     displacement of the step.
@@ -187,7 +198,7 @@ def _pk_solve(
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, phi = _apply(cache, base, p, local, ez, op)
+    cp, phi = _operate(cache, base, p, local, ez, op)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -197,24 +208,24 @@ def _pk_solve(
         if residual <= tol:
             if exact:
                 return p, iteration, residual, phi
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
             exact = True
             continue
         if not any_loaded:
             d = np.maximum(-h, 0.0)
-            cd, _ = _apply(cache, base, d, local, ez, op)
+            cd, _ = _operate(cache, base, d, local, ez, op)
             curvature = np.dot(d, cd)
             step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
             exact = True
             continue
         g_norm_old = g_norm
-        r, _ = _apply(cache, base, t, local, ez, op)
+        r, _ = _operate(cache, base, t, local, ez, op)
         conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
         if not linear:
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
         exact = not linear
     return p, -1, residual, phi
 
@@ -424,14 +435,20 @@ def run_steps(
             pos = np.mod(pos, period)
             largest = a.max()
             near = min(max(NEAR_CELLS * h_mesh, NEAR_WIDTHS * largest), 0.25 * period)
-            start, src, coef = _near_pairs(
-                pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
-            )
-            dense = np.zeros((0, 0))
             if count <= DENSE_CONTACTS:
+                lists = _near_lists(pos, count, period, near)
+                start, src, _ = lists
+                coef = np.zeros(0)
                 dense = _dense_coupling(
-                    pos, owner, ez_src, count, h_mesh, cache[base], start, src, coef
-                )
+                    pos, a_src, owner, ez_src, count, period, cache[base], lists, c0, nodes,
+                    qweights,
+                )  # fmt: skip
+            else:
+                start, src, coef = _near_pairs(
+                    pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes,
+                    qweights,
+                )  # fmt: skip
+                dense = np.zeros((0, 0))
             op = (pos, owner, ez_src, h_mesh, start, src, coef, dense)
             load, iterations, residual, phi = _pk_solve(
                 cache, base, dl, load, tol, e_z, a, period, c0, op

@@ -47,7 +47,7 @@ def _neighbour_slope(pos: float, near: tuple, c0: float, reach: float) -> float:
     sources able to reach the punch (:func:`_relevant`). Neighbours farther than ``reach`` plus
     NEAR_WIDTHS of their own half-widths only tilt the contact uniformly and are left out.
     """
-    _, _, src, src_pos, src_a, src_q, _, period, relevant = near
+    _, _, _, src_pos, src_a, src_q, _, period, relevant = near
     total = 0.0
     for m in range(relevant[0]):
         s = relevant[m + 1]
