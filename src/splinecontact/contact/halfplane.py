@@ -162,6 +162,8 @@ def _near_lists(
     for i in range(n_targets):
         cnt = 0
         for shift in shifts:
+            if not -near <= pos[i] + shift <= period + near:
+                continue  # (positions lie in [0, period): nothing within reach)
             lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
             hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
             cnt += hi - lo
@@ -172,6 +174,8 @@ def _near_lists(
     for i in range(n_targets):
         k = start[i]
         for shift in shifts:
+            if not -near <= pos[i] + shift <= period + near:
+                continue
             lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
             hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
             for q in range(lo, hi):
