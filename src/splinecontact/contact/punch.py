@@ -32,9 +32,10 @@ _SECANT_ITERATIONS = 40
 #: A contact's previous (Hertz-scaled) width and centre are kept when their punch load is
 #: within this fraction of the width tolerance of the contact's load (P ∝ b² near Hertz, so
 #: the width is within half of it) and one centre step is below ``_CENTRE_TOL`` × the width
-#: tolerance × b; otherwise the width is solved for (load to 1e−6, centre to 1e−9 b).
-_LOAD_TOL = 0.1
-_CENTRE_TOL = 0.05
+#: tolerance × b: together within the width tolerance (the outer width loop's own test);
+#: otherwise the width is solved for (load to 1e−6, centre to 1e−9 b).
+_LOAD_TOL = 0.5
+_CENTRE_TOL = 0.5
 
 
 @numba.njit(cache=True, nogil=True)
