@@ -46,7 +46,8 @@ Model (rigid displacement δ_N prescribed at every step, as in SAD)
   linear (cloud-in-cell) weights, convolved with the Green function by FFT, read back with the
   same weights — and pairs closer than ``NEAR_CELLS`` mesh cells are corrected to the exact
   coefficient. One operator application costs O(N + M log M + near pairs) for N contacts on
-  M cells, independent of the number of grid points.
+  M cells, independent of the number of grid points; steps with few contacts assemble the same
+  operator as an N × N matrix (:mod:`.interaction_kernel`).
 """
 
 from __future__ import annotations

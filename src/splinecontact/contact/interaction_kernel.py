@@ -8,7 +8,9 @@ springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without retu
 
 The mesh convolution is the package's compiled real-FFT circulant product
 (``splinecontact._fft.circulant``); the mesh kernel and the transform's tables of every
-mesh size are computed on first use and cached in a typed list.
+mesh size are computed on first use and cached in a typed list. Steps with at most
+``DENSE_CONTACTS`` contacts assemble the operator as a matrix (mesh coupling of every pair and
+the exact near pairs) and convolve the mesh once, for the surface's rise.
 """
 
 from __future__ import annotations
