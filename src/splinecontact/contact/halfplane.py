@@ -100,7 +100,9 @@ def _pair(
     """
     t = abs(r)
     if t > 3.0 * (a_t + a_s):
-        mean_log = math.log(t) - 0.1875 * (a_t * a_t + a_s * a_s) / (t * t)
+        # ln t + ln(2π/L) + ln|sinc(πr/L)| = ln|2 sin(πr/L)|
+        far = math.log(abs(2.0 * math.sin(math.pi * r / period)))
+        return -c * (far - 0.1875 * (a_t * a_t + a_s * a_s) / (t * t))
     else:
         total = 0.0
         for k in range(nodes.size):
@@ -148,6 +150,78 @@ def pair_coefficient(
 
 
 @numba.njit(cache=True, nogil=True)
+def _near_lists(
+    pos: NDArray[np.float64], n_targets: int, period: float, near: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:  # pragma: no cover
+    """CSR list of the (target, source) pairs within ``near`` [µm] (periodic): start, sources and
+    the period shift of each entry. Targets are sources 0 … n_targets − 1 (the contacts)."""
+    order = np.argsort(pos)
+    sorted_pos = pos[order]
+    start = np.zeros(n_targets + 1, dtype=np.int64)
+    shifts = (-period, 0.0, period)
+    for i in range(n_targets):
+        cnt = 0
+        for shift in shifts:
+            if not -near <= pos[i] + shift <= period + near:
+                continue  # (positions lie in [0, period): nothing within reach)
+            lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
+            hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
+            cnt += hi - lo
+        start[i + 1] = start[i] + cnt
+    nnz = start[n_targets]
+    src = np.empty(nnz, dtype=np.int64)
+    shift_of = np.empty(nnz)
+    for i in range(n_targets):
+        k = start[i]
+        for shift in shifts:
+            if not -near <= pos[i] + shift <= period + near:
+                continue
+            lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
+            hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
+            for q in range(lo, hi):
+                src[k] = order[q]
+                shift_of[k] = shift
+                k += 1
+    return start, src, shift_of
+
+
+@numba.njit(cache=True, nogil=True)
+def _mesh_coupling(
+    ia: int, fi: float, sa: int, fs: float, mesh_green: NDArray[np.float64]
+) -> float:  # pragma: no cover - compiled
+    """Mesh coupling of a target in cell ``ia`` (fraction ``fi``) and a source in cell ``sa``
+    (fraction ``fs``): linear weights at both ends."""
+    cells = mesh_green.size
+    mesh = 0.0
+    for da in range(2):
+        wa = fi if da == 1 else 1.0 - fi
+        for db in range(2):
+            wb = fs if db == 1 else 1.0 - fs
+            mesh += wa * wb * mesh_green[(ia + da - sa - db) % cells]
+    return mesh
+
+
+@numba.njit(cache=True, nogil=True)
+def _exact_pair(
+    i: int,
+    s: int,
+    r: float,
+    pos_a: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    period: float,
+    c: float,
+    nodes: NDArray[np.float64],
+    weights: NDArray[np.float64],
+) -> float:  # pragma: no cover - compiled
+    """Exact coupling of target i and source s at distance r [µm] (``pos_a``: half-widths)."""
+    if s == i:
+        return c * (math.log(period / (math.pi * pos_a[i])) - 1.5)
+    if owner[s] == i:  # own mirror image
+        return _pair(r, pos_a[i], pos_a[i], period, c, nodes, weights)
+    return _pair(r, pos_a[i], pos_a[s], period, c, nodes, weights)
+
+
+@numba.njit(cache=True, nogil=True)
 def _near_pairs(
     pos: NDArray[np.float64],
     a: NDArray[np.float64],
@@ -166,54 +240,87 @@ def _near_pairs(
     Targets are sources 0 … n_targets − 1 (the contacts); the correction replaces the mesh's
     coupling of the pair by the exact one (the self pair by the self coefficient).
     """
-    order = np.argsort(pos)
-    sorted_pos = pos[order]
     h = period / cells
-    start = np.zeros(n_targets + 1, dtype=np.int64)
-    # first pass: count
+    start, src, shift_of = _near_lists(pos, n_targets, period, near)
+    coef = np.empty(src.size)
     for i in range(n_targets):
-        cnt = 0
-        for shift in (-period, 0.0, period):
-            lo = np.searchsorted(sorted_pos, pos[i] + shift - near, side="left")
-            hi = np.searchsorted(sorted_pos, pos[i] + shift + near, side="right")
-            cnt += hi - lo
-        start[i + 1] = start[i] + cnt
-    nnz = start[n_targets]
-    src = np.empty(nnz, dtype=np.int64)
-    coef = np.empty(nnz)
-    for i in range(n_targets):
-        k = start[i]
         xi = pos[i]
         ci = xi / h
         ia = math.floor(ci)
         fi = ci - ia
-        for shift in (-period, 0.0, period):
-            lo = np.searchsorted(sorted_pos, xi + shift - near, side="left")
-            hi = np.searchsorted(sorted_pos, xi + shift + near, side="right")
-            for q in range(lo, hi):
-                s = order[q]
-                src[k] = s
-                # mesh coupling of the pair (linear weights at both ends)
-                cs = pos[s] / h
-                sa = math.floor(cs)
-                fs = cs - sa
-                mesh = 0.0
-                for da in range(2):
-                    wa = fi if da == 1 else 1.0 - fi
-                    for db in range(2):
-                        wb = fs if db == 1 else 1.0 - fs
-                        mesh += wa * wb * mesh_green[(ia + da - sa - db) % cells]
-                if s == i:
-                    exact = c * (math.log(period / (math.pi * a[i])) - 1.5)
-                else:
-                    r = xi - (pos[s] - shift)
-                    if owner[s] == i:  # own mirror image
-                        exact = _pair(r, a[i], a[i], period, c, nodes, weights)
-                    else:
-                        exact = _pair(r, a[i], a[s], period, c, nodes, weights)
-                coef[k] = exact - mesh
-                k += 1
+        for k in range(start[i], start[i + 1]):
+            s = src[k]
+            cs = pos[s] / h
+            sa = math.floor(cs)
+            mesh = _mesh_coupling(ia, fi, sa, cs - sa, mesh_green)
+            r = xi - (pos[s] - shift_of[k])
+            coef[k] = _exact_pair(i, s, r, a, owner, period, c, nodes, weights) - mesh
     return start, src, coef
+
+
+@numba.njit(cache=True, nogil=True)
+def _mesh_pair(
+    d: int, fi: float, fs: float, mesh_green: NDArray[np.float64], mask: int
+) -> float:  # pragma: no cover - compiled
+    """:func:`_mesh_coupling` for cells ``d`` apart on a mesh of ``mask`` + 1 (a power of two)
+    cells."""
+    g0 = mesh_green[d & mask]
+    gm = mesh_green[(d - 1) & mask]
+    gp = mesh_green[(d + 1) & mask]
+    return (1.0 - fi) * ((1.0 - fs) * g0 + fs * gm) + fi * ((1.0 - fs) * gp + fs * g0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _dense_coupling(
+    pos: NDArray[np.float64],
+    a: NDArray[np.float64],
+    owner: NDArray[np.int64],
+    ez_src: NDArray[np.float64],
+    n_targets: int,
+    period: float,
+    mesh_green: NDArray[np.float64],
+    lists: tuple,
+    c: float,
+    nodes: NDArray[np.float64],
+    weights: NDArray[np.float64],
+) -> NDArray[np.float64]:  # pragma: no cover - compiled
+    """The particle–mesh operator of :func:`_near_pairs` as a matrix, transposed.
+
+    K[j, i] = Σ over the sources s of contact j of e_z,s × (mesh coupling of i and s, or the
+    exact coupling for the near pairs of ``lists`` = :func:`_near_lists`), so that the mesh field
+    of loads P read back with the near corrections (:func:`_gather`) equals Kᵀ P, without the
+    FFT (for few contacts). The exact coupling of two contacts is computed once per pair (it is
+    symmetric: the punch and Hertz weights are even).
+    """
+    start, src, shift_of = lists
+    cells = mesh_green.size
+    h = period / cells
+    mask = cells - 1  # cells is a power of two
+    n_src = pos.size
+    sa = np.empty(n_src, dtype=np.int64)
+    fs = np.empty(n_src)
+    for s in range(n_src):
+        cs = pos[s] / h
+        sa[s] = math.floor(cs)
+        fs[s] = cs - sa[s]
+    out = np.zeros((n_targets, n_targets))
+    for s in range(n_src):
+        row = out[owner[s]]
+        for i in range(n_targets):
+            row[i] += ez_src[s] * _mesh_pair(sa[i] - sa[s], fs[i], fs[s], mesh_green, mask)
+    pairs = np.full((n_targets, n_targets), np.nan)
+    for i in range(n_targets):
+        for k in range(start[i], start[i + 1]):
+            s = src[k]
+            exact = pairs[s, i] if s < n_targets else np.nan
+            if math.isnan(exact):
+                r = pos[i] - (pos[s] - shift_of[k])
+                exact = _exact_pair(i, s, r, a, owner, period, c, nodes, weights)
+                if s < n_targets:
+                    pairs[i, s] = exact
+            mesh = _mesh_pair(sa[i] - sa[s], fs[i], fs[s], mesh_green, mask)
+            out[owner[s], i] += ez_src[s] * (exact - mesh)
+    return out
 
 
 @numba.njit(cache=True, nogil=True)

@@ -46,7 +46,8 @@ Model (rigid displacement δ_N prescribed at every step, as in SAD)
   linear (cloud-in-cell) weights, convolved with the Green function by FFT, read back with the
   same weights — and pairs closer than ``NEAR_CELLS`` mesh cells are corrected to the exact
   coefficient. One operator application costs O(N + M log M + near pairs) for N contacts on
-  M cells, independent of the number of grid points.
+  M cells, independent of the number of grid points; steps with few contacts assemble the same
+  operator as an N × N matrix (:mod:`.interaction_kernel`).
 """
 
 from __future__ import annotations
@@ -196,6 +197,9 @@ def _accept(
         )
         if held is None and delta <= delta_min:
             continue
+        offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
+        if held is None and not (-half_dx <= offset < half_dx):
+            continue  # (most candidates: points beside their summit; tested before the rise)
         if held is None and delta <= 0.0:
             # an open summit can only touch where the surface has risen towards it: the mesh
             # displacement of the previous step (smooth, so it underestimates the rise next to
@@ -207,9 +211,6 @@ def _accept(
             rise = -(uplift[i0 % cells] * (1.0 - frac) + uplift[(i0 + 1) % cells] * frac)
             if delta <= -UPLIFT_FACTOR * rise:
                 continue
-        offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
-        if held is None and not (-half_dx <= offset < half_dx):
-            continue
         out_index[count] = j
         out_delta[count] = delta
         out_ex[count] = y_x / y_norm
@@ -221,6 +222,55 @@ def _accept(
         ) / (2.0 * y_norm)
         count += 1
     return count
+
+
+@numba.njit(cache=True, nogil=True)
+def _can_centre_in_cell(
+    gap0: NDArray[np.float64],
+    d_low: float,
+    d_high: float,
+    columns: tuple,
+    dx: float,
+) -> NDArray[np.bool_]:  # pragma: no cover - compiled
+    """Candidates whose contact centre can fall in their own cell (eq. 9) at some displacement.
+
+    A rigorous bound over the gaps g ∈ [gap0 − ``d_high``, gap0 − ``d_low``] [µm] a candidate
+    passes through: |offset| ≥ (2|Δm_x| − max|δ| |κ^u n_x − κ^l m_x|) / (2 max|Y|), with
+    |δ| ≤ max|N(g)|/(κ^l + κ^u) (N the numerator of δ, quadratic in g; |Y| ≥ 0) and |Y| largest
+    at an end (Y_z linear in g). Candidates that Table 1 always refuses (κ^l + κ^u ≤ 0) or
+    whose bound exceeds half the grid spacing ``dx`` [µm] are never accepted by
+    :func:`_accept`; the others are kept (most candidates are points beside their summit).
+    ``columns`` = (κ^l, κ^u, m_x, m_z, n_x, n_z).
+    """
+    kl, ku, mx, mz, nx, nz = columns
+    keep = np.zeros(gap0.size, dtype=np.bool_)
+    for j in range(gap0.size):
+        k_sum = kl[j] + ku[j]
+        if not k_sum > 0.0:
+            continue
+        k_prod = kl[j] * ku[j]
+        b = kl[j] * mz[j] + ku[j] * nz[j]
+        dmx = mx[j] - nx[j]
+        dmz = mz[j] - nz[j]
+        a = dmx * dmx + dmz * dmz
+        g_lo = gap0[j] - d_high
+        g_hi = gap0[j] - d_low
+        n_max = max(
+            abs(a - k_prod * g_lo * g_lo - 2.0 * g_lo * b),
+            abs(a - k_prod * g_hi * g_hi - 2.0 * g_hi * b),
+        )
+        if k_prod != 0.0:
+            turn = -b / k_prod
+            if g_lo < turn < g_hi:
+                n_max = max(n_max, abs(a - k_prod * turn * turn - 2.0 * turn * b))
+        y_x = kl[j] * mx[j] + ku[j] * nx[j]
+        y_z = max(abs(k_prod * g_lo + b), abs(k_prod * g_hi + b))
+        y_max = math.sqrt(y_x * y_x + y_z * y_z)
+        bound = (2.0 * abs(dmx) - n_max / k_sum * abs(ku[j] * nx[j] - kl[j] * mx[j])) / (
+            2.0 * y_max
+        )
+        keep[j] = not bound > 0.5 * dx * (1.0 + 1e-6)
+    return keep
 
 
 def extended_geometry(
@@ -402,18 +452,31 @@ def interacting_loading(
     record = np.zeros(n_steps, dtype=bool)
     if record_steps is not None and len(record_steps):
         record[np.asarray(record_steps)] = True
+    all_gap0 = np.sort(np.asarray(geometry.gap0, dtype=np.float64), kind="stable")
+    reach = float(all_gap0[-1]) if all_gap0.size else 0.0
+    names = ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
+    raw = [np.asarray(getattr(geometry, name), dtype=np.float64) for name in names]
+    raw_gap0 = np.asarray(geometry.gap0, dtype=np.float64)
+    # only the candidates whose contact centre can fall in their own cell are tested at every
+    # step (the same contacts are accepted, in the same order)
+    keep = np.flatnonzero(
+        _can_centre_in_cell(
+            raw_gap0,
+            min(0.0, float(displacement.min(initial=0.0))),
+            float(displacement.max(initial=0.0)),
+            tuple(raw),
+            dx,
+        )
+    )
     # candidates in order of their gap at δ_N = 0 (the order in which they can touch); the
     # reach of the candidate set is its largest gap
-    order = np.argsort(np.asarray(geometry.gap0), kind="stable")
-    gap0 = np.ascontiguousarray(np.asarray(geometry.gap0, dtype=np.float64)[order])
-    columns = [
-        np.ascontiguousarray(np.asarray(getattr(geometry, name), dtype=np.float64)[order])
-        for name in ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
-    ]
+    order = keep[np.argsort(raw_gap0[keep], kind="stable")]
+    gap0 = np.ascontiguousarray(raw_gap0[order])
+    columns = [np.ascontiguousarray(column[order]) for column in raw]
     points = np.asarray(geometry.point)[order]
     height_lower = np.asarray(geometry.height_lower)[order]
+    n_cand = gap0.size
     point_x = points.astype(np.float64) * dx
-    reach = float(gap0[-1]) if gap0.size else 0.0
     sines, punch_weights = _punch_quadrature()
     nodes, node_weights = _quadrature()
     largest_mesh = max(max_cells, cells or 0)
@@ -518,5 +581,5 @@ def interacting_loading(
     curves["displacement"] = displacement
     curves["tangential_displacement"] = np.zeros_like(displacement)
     curves["mean_separation"] = geometry.mean_gap0 - displacement
-    curves["n_candidates"] = np.searchsorted(gap0, displacement, side="right").astype(np.int64)
+    curves["n_candidates"] = np.searchsorted(all_gap0, displacement, side="right").astype(np.int64)
     return curves, tuple(contacts)

@@ -8,7 +8,9 @@ springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without retu
 
 The mesh convolution is the package's compiled real-FFT circulant product
 (``splinecontact._fft.circulant``); the mesh kernel and the transform's tables of every
-mesh size are computed on first use and cached in a typed list.
+mesh size are computed on first use and cached in a typed list. Steps with at most
+``DENSE_CONTACTS`` contacts assemble the operator as a matrix (mesh coupling of every pair and
+the exact near pairs) and convolve the mesh once, for the surface's rise.
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ from .halfplane import (
     NEAR_CELLS,
     NEAR_WIDTHS,
     _collect,
+    _dense_coupling,
+    _near_lists,
     _near_pairs,
     _pk_direction,
     _pk_update,
@@ -49,6 +53,12 @@ _PER_LEVEL = 17
 
 #: Smallest mesh: 2**_MIN_LEVEL cells.
 _MIN_LEVEL = 6
+
+#: Steps with at most this many accepted contacts apply the particle–mesh operator as a
+#: matrix (the mesh coupling of every pair plus the near corrections, built once per width
+#: update) instead of spreading and convolving at every conjugate-gradient iteration; the
+#: mesh field is then convolved once, for the converged loads [1].
+DENSE_CONTACTS = 512
 
 
 def mesh_cache(max_cells: int) -> List:
@@ -131,6 +141,29 @@ def _apply(
 
 
 @numba.njit(cache=True)
+def _operate(
+    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """:func:`_apply`, or with the operator as a matrix (``op`` = (the operands of
+    :func:`_apply`, Kᵀ of :func:`.halfplane._dense_coupling` or an empty matrix)) the same
+    local·P + e_z Kᵀ P without the mesh displacement (empty)."""
+    dense = op[7]
+    if dense.shape[0] == 0:
+        return _apply(cache, base, load, local, ez, op[:7])
+    n = load.size
+    w = np.zeros(n)
+    for k in range(n):
+        p = load[k]
+        if p != 0.0:
+            row = dense[k]
+            for i in range(n):
+                w[i] += row[i] * p
+    for i in range(n):
+        w[i] = local * load[i] + ez[i] * w[i]
+    return w, np.zeros(0)
+
+
+@numba.njit(cache=True)
 def _pk_solve(
     cache,
     base: int,
@@ -147,7 +180,7 @@ def _pk_solve(
 
     Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
     incrementally while the loaded set does not change, and recomputed before convergence is
-    declared (``op`` as :func:`_apply`). Returns (P, iterations, residual, mesh displacement
+    declared (``op`` as :func:`_operate`). Returns (P, iterations, residual, mesh displacement
     of P); iterations −1 when the solve did not converge. A converged P was the last load the
     operator was applied to, so the mesh displacement of that application is the surface
     displacement of the step.
@@ -167,7 +200,7 @@ def _pk_solve(
         largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
     fallback = 1.0 / largest
     local = 2.0 * c
-    cp, phi = _apply(cache, base, p, local, ez, op)
+    cp, phi = _operate(cache, base, p, local, ez, op)
     exact = True
     residual = np.inf
     for iteration in range(_MAX_INNER + 1):
@@ -177,24 +210,24 @@ def _pk_solve(
         if residual <= tol:
             if exact:
                 return p, iteration, residual, phi
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
             exact = True
             continue
         if not any_loaded:
             d = np.maximum(-h, 0.0)
-            cd, _ = _apply(cache, base, d, local, ez, op)
+            cd, _ = _operate(cache, base, d, local, ez, op)
             curvature = np.dot(d, cd)
             step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
             p = step * d
             conjugate = False
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
             exact = True
             continue
         g_norm_old = g_norm
-        r, _ = _apply(cache, base, t, local, ez, op)
+        r, _ = _operate(cache, base, t, local, ez, op)
         conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
         if not linear:
-            cp, phi = _apply(cache, base, p, local, ez, op)
+            cp, phi = _operate(cache, base, p, local, ez, op)
         exact = not linear
     return p, -1, residual, phi
 
@@ -411,10 +444,21 @@ def run_steps(
             pos = np.mod(pos, period)
             largest = a.max()
             near = min(max(NEAR_CELLS * h_mesh, NEAR_WIDTHS * largest), 0.25 * period)
-            start, src, coef = _near_pairs(
-                pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
-            )
-            op = (pos, owner, ez_src, h_mesh, start, src, coef)
+            if count <= DENSE_CONTACTS:
+                lists = _near_lists(pos, count, period, near)
+                start, src, _ = lists
+                coef = np.zeros(0)
+                dense = _dense_coupling(
+                    pos, a_src, owner, ez_src, count, period, cache[base], lists, c0, nodes,
+                    qweights,
+                )  # fmt: skip
+            else:
+                start, src, coef = _near_pairs(
+                    pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes,
+                    qweights,
+                )  # fmt: skip
+                dense = np.zeros((0, 0))
+            op = (pos, owner, ez_src, h_mesh, start, src, coef, dense)
             load, iterations, residual, phi = _pk_solve(
                 cache, base, dl, load, tol, e_z, a, period, c0, op
             )
@@ -429,7 +473,7 @@ def run_steps(
                     src_q[s] = ez_src[s] * load[owner[s]]
                 b, c_new = _profile_widths(
                     load, a_new, x, a, cc, slope, dx, e_star, sines, weights,
-                    start, src, pos, a_src, src_q, period,
+                    start, src, pos, a_src, src_q, period, width_tol,
                 )  # fmt: skip
                 a_new = np.maximum(b, floor)
             done = True
@@ -450,7 +494,10 @@ def run_steps(
             shift_all[j[k]] = cc[k] if on[k] else 0.0
             x[k] += cc[k]
         if np.any(on):
-            # the mesh displacement of the converged loads (the solve's last application)
+            # the mesh displacement of the converged loads (the solve's last application; with
+            # the operator as a matrix, convolved here)
+            if phi.size == 0:
+                phi = _convolve(cache, base, _spread(load, owner, ez_src, pos, cells, h_mesh)[1])
             field[: phi.size] = phi
             state[2] = h_mesh
             state[3] = phi.size

@@ -29,23 +29,30 @@ PUNCH_NODES = 16
 _NEWTON_ITERATIONS = 30
 _SECANT_ITERATIONS = 40
 
+#: A contact's previous (Hertz-scaled) width and centre are kept when their punch load is
+#: within this fraction of the width tolerance of the contact's load (P ∝ b² near Hertz, so
+#: the width is within half of it) and one centre step is below ``_CENTRE_TOL`` × the width
+#: tolerance × b: together within the width tolerance (the outer width loop's own test);
+#: otherwise the width is solved for (load to 1e−6, centre to 1e−9 b).
+_LOAD_TOL = 0.5
+_CENTRE_TOL = 0.5
+
 
 @numba.njit(cache=True, nogil=True)
 def _neighbour_slope(pos: float, near: tuple, c0: float, reach: float) -> float:  # pragma: no cover
     """Slope of the surface displacement of the near neighbours (Hertz fields) at ``pos``.
 
-    ``near`` = (first, last, src, src_pos, src_a, src_q, own, period): the contact's near
-    sources src[first:last] (positions [µm], half-widths [µm], vertical loads [mN/µm]), its own
-    index and the period [µm]. Neighbours farther than ``reach`` plus NEAR_WIDTHS of their own
-    half-widths only tilt the contact uniformly and are left out.
+    ``near`` = (first, last, src, src_pos, src_a, src_q, own, period, relevant): the contact's
+    near sources src[first:last] (positions [µm], half-widths [µm], vertical loads [mN/µm]),
+    its own index, the period [µm] and the number of entries of ``relevant`` that hold the
+    sources able to reach the punch (:func:`_relevant`). Neighbours farther than ``reach`` plus
+    NEAR_WIDTHS of their own half-widths only tilt the contact uniformly and are left out.
     """
-    first, last, src, src_pos, src_a, src_q, own, period = near
+    _, _, _, src_pos, src_a, src_q, _, period, relevant = near
     total = 0.0
-    for k in range(first, last):
-        s = src[k]
+    for m in range(relevant[0]):
+        s = relevant[m + 1]
         q = src_q[s]
-        if s == own or q == 0.0:
-            continue
         r = pos - src_pos[s]
         r -= period * math.floor(r / period + 0.5)
         a = src_a[s]
@@ -61,6 +68,30 @@ def _neighbour_slope(pos: float, near: tuple, c0: float, reach: float) -> float:
 
 
 @numba.njit(cache=True, nogil=True)
+def _relevant(centre: float, b: float, near: tuple, reach: float) -> None:  # pragma: no cover
+    """Collect in ``near``'s ``relevant`` the near sources that reach a node of the punch.
+
+    A source (not the contact itself, loaded) is kept when its periodic distance to the centre
+    minus the half-width b is within ``reach`` plus NEAR_WIDTHS of its own half-width: the
+    periodic distance is 1-Lipschitz, so every node of [centre − b, centre + b] that
+    :func:`_neighbour_slope` would include is kept, in the same order.
+    """
+    first, last, src, src_pos, src_a, src_q, own, period, relevant = near
+    kept = 0
+    for k in range(first, last):
+        s = src[k]
+        if s == own or src_q[s] == 0.0:
+            continue
+        r = centre - src_pos[s]
+        r -= period * math.floor(r / period + 0.5)
+        if abs(r) - b > reach + NEAR_WIDTHS * src_a[s]:
+            continue
+        kept += 1
+        relevant[kept] = s
+    relevant[0] = kept
+
+
+@numba.njit(cache=True, nogil=True)
 def _punch(
     slope: NDArray[np.float64],
     x: float,
@@ -71,7 +102,9 @@ def _punch(
     sines: NDArray[np.float64],
     weights: NDArray[np.float64],
     near: tuple,
-) -> tuple[float, float]:  # pragma: no cover - compiled
+    centre_tol: float,
+    iterations: int,
+) -> tuple[float, float, bool]:  # pragma: no cover - compiled
     """Centre and load of a 2D frictionless punch of the local gap profile of half-width b.
 
     The contact [x + c − b, x + c + b] of a rigid profile with gap slope f′ has bounded pressure
@@ -80,8 +113,9 @@ def _punch(
     relations, e.g. Johnson, *Contact Mechanics*, §2.8). Integrals with s = b sin θ and
     Gauss–Legendre nodes in θ; c by a safeguarded secant method (first step: Newton with the
     exact derivative of the linearly interpolated f′ of the profile; bisection where a step
-    leaves the bracket of the root), P in the same pass. Returns (c, P), NaN beyond the
-    candidates.
+    leaves the bracket of the root), P in the same pass, at most ``iterations`` steps, until a
+    step is below ``centre_tol`` × b. Returns (c, P, whether the last step was below it), NaN
+    beyond the candidates.
     """
     c0 = 2.0 / (math.pi * e_star)
     reach = NEAR_WIDTHS * b
@@ -89,7 +123,13 @@ def _punch(
     lo = -math.inf
     hi = math.inf
     c_old = i0_old = 0.0
-    for iteration in range(_NEWTON_ITERATIONS):
+    c_kept = math.inf
+    settled = False
+    for iteration in range(iterations):
+        if abs(c - c_kept) > 0.5 * b:
+            # the sources within reach of any punch centre c_kept ± b/2
+            _relevant(x + c, 1.5 * b, near, reach)
+            c_kept = c
         i0 = 0.0
         i1 = 0.0
         total = 0.0
@@ -99,12 +139,12 @@ def _punch(
             t = pos / dx
             j = math.floor(t)
             if j < 0 or j + 1 >= slope.size:
-                return math.nan, math.nan
+                return math.nan, math.nan, False
             frac = t - j
             v = slope[j] * (1.0 - frac) + slope[j + 1] * frac
             w = (slope[j + 1] - slope[j]) / dx
             if math.isnan(v):
-                return math.nan, math.nan
+                return math.nan, math.nan, False
             v += _neighbour_slope(pos, near, c0, reach)
             i0 += weights[k] * v
             i1 += weights[k] * w
@@ -130,10 +170,11 @@ def _punch(
             dc = 0.5 * (lo + hi) - c
         c_old = c
         i0_old = i0
-        if abs(dc) <= 1e-9 * b or iteration == _NEWTON_ITERATIONS - 1:
+        settled = abs(dc) <= centre_tol * b
+        if settled or iteration == iterations - 1:
             break
         c += dc
-    return c, 0.5 * e_star * total
+    return c, 0.5 * e_star * total, settled
 
 
 @numba.njit(cache=True, nogil=True)
@@ -166,6 +207,7 @@ def _profile_widths(
     src_a: NDArray[np.float64],
     src_q: NDArray[np.float64],
     period: float,
+    width_tol: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
     """Half-widths and centre shifts at which each contact's punch load equals its load.
 
@@ -177,6 +219,10 @@ def _profile_widths(
     out_b = a_hertz.copy()
     out_c = np.zeros(n)
     x_sorted = np.sort(x)
+    longest = 0
+    for i in range(n):
+        longest = max(longest, start[i + 1] - start[i])
+    relevant = np.empty(longest + 1, dtype=np.int64)
     for i in range(n):
         target = load[i]
         if target <= 0.0 or a_hertz[i] < MIN_PUNCH_WIDTH * dx:
@@ -187,10 +233,24 @@ def _profile_widths(
         p_old = 0.0
         b_lo = 0.0
         b_hi = math.inf
+        near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period, relevant)
+        if b_start[i] > 0.0:
+            # a contact kept from the last update, its width scaled as Hertz to the expected
+            # load: kept if it still balances this load (centre and load, neighbours' fields
+            # included) to a fraction of the width tolerance
+            _, p, settled = _punch(
+                slope, x[i], dx, b, c, e_star, sines, weights, near, _CENTRE_TOL * width_tol, 1
+            )
+            if settled and abs(p / target - 1.0) <= _LOAD_TOL * width_tol:
+                if not _bridges(x_sorted, x[i], c, b):
+                    out_b[i] = b
+                    out_c[i] = c
+                    continue
         ok = False
         for _ in range(_SECANT_ITERATIONS):
-            near = (start[i], start[i + 1], src, src_pos, src_a, src_q, i, period)
-            c, p = _punch(slope, x[i], dx, b, c, e_star, sines, weights, near)
+            c, p, _ = _punch(
+                slope, x[i], dx, b, c, e_star, sines, weights, near, 1e-9, _NEWTON_ITERATIONS
+            )
             if math.isnan(p) or p <= 0.0:
                 break
             if abs(p / target - 1.0) <= 1e-6:
