@@ -156,12 +156,14 @@ def _accept(
     columns: tuple,
     dx: float,
     out: tuple,
+    reach: float = 0.0,
 ) -> int:  # pragma: no cover - compiled
     """SAD's acceptance (Table 1, eqs. 7–10, eq. 9) of the first ``n_active`` candidates at
     displacement ``d`` [µm], down to the overlap ``delta_min`` [µm] where the surface has risen
     (the mesh displacement ``uplift`` [µm] of the previous step, cells of ``cell`` [µm]).
     ``columns`` = (gap0, κ^l, κ^u, m_x, m_z, n_x, n_z) of the candidates; the accepted ones go
     to ``out`` = (index, δ, e_x, e_z, R_eff, offset, centre height); returns their number.
+    A law acting at a gap (``reach`` [µm] > 0) keeps every candidate with δ > −reach.
     """
     gap0, kl, ku, mx, mz, nx, nz = columns
     out_index, out_delta, out_ex, out_ez, out_reff, out_offset, out_offset_z = out
@@ -191,7 +193,7 @@ def _accept(
         )
         if delta <= delta_min:
             continue
-        if delta <= 0.0:
+        if delta <= 0.0 and delta <= -reach:
             # an open summit can only touch where the surface has risen towards it: the mesh
             # displacement of the previous step (smooth, so it underestimates the rise next to
             # loaded contacts only where the surface is pushed down anyway)
@@ -299,6 +301,7 @@ def interacting_loading(
     n_points: int,
     settings: InteractionSettings = InteractionSettings(),
     record_steps: NDArray[np.int64] | None = None,
+    law: Any = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -319,6 +322,11 @@ def interacting_loading(
         Boundary conditions, tolerance and mesh.
     record_steps : array of int, optional
         Steps at which to keep the loaded contacts.
+    law : ContactLaw, optional
+        Local normal law, bound (:func:`splinecontact.contact.laws.bind_law`); ``None`` or
+        Hertz: eq. 10 and the linear solve; another law: the nonlinear contact-level solve of
+        :mod:`.interaction_laws` (the contacts' widths are then the law's own, whatever
+        ``settings.width``).
 
     Returns
     -------
@@ -377,6 +385,13 @@ def interacting_loading(
     from .interaction_kernel import _MAX_INNER, mesh_cache, run_steps
 
     kernel: Any = run_steps  # compiled; its many arguments are checked by numba
+    lawful = law is not None and law.code != 0
+    law_args = (
+        (law.code, law.kernel_parameters(e_star), float(e_star)) if lawful else
+        (0, np.array([float(e_star)]), float(e_star)),
+        np.zeros((n, law.n_state)) if lawful else np.zeros((1, 0)),
+        float(law.reach) if lawful else 0.0,
+    )  # fmt: skip
 
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
@@ -392,7 +407,7 @@ def interacting_loading(
         np.ascontiguousarray(np.asarray(getattr(geometry, name), dtype=np.float64)[order])
         for name in ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
     ]
-    points = np.asarray(geometry.point)[order]
+    points = np.ascontiguousarray(np.asarray(geometry.point)[order], dtype=np.int64)
     height_lower = np.asarray(geometry.height_lower)[order]
     point_x = points.astype(np.float64) * dx
     reach = float(gap0[-1]) if gap0.size else 0.0
@@ -425,7 +440,7 @@ def interacting_loading(
             int(settings.width_iterations), not settings.periodic, mirror_axis, period,
             cells or 0, max_cells, slope is not None, dummy if slope is None else slope, dummy,
             sines, punch_weights, nodes, node_weights, floor, cache, state, field,
-            *per_contact, last_j, idx, *scratch, sums, counts,
+            *per_contact, last_j, idx, *scratch, sums, counts, *law_args, points,
         )  # fmt: skip
         if failed >= 0:
             raise NoConvergenceError(
@@ -443,7 +458,7 @@ def interacting_loading(
         step = stop - 1
         if record[step] and count > 0:
             j = idx[:count]
-            on = out_load[:count] > 0.0
+            on = out_load[:count] != 0.0 if lawful else out_load[:count] > 0.0
             chosen = j[on]
             contacts.append(
                 ContactRecord(
@@ -451,7 +466,9 @@ def interacting_loading(
                     point=points[chosen],
                     x=out_x[:count][on].copy(),
                     z=height_lower[chosen] + offset_z[:count][on],
-                    overlap=out_load[:count][on] / (_QUARTER_PI * e_star),
+                    overlap=_delta[:count][on].copy()
+                    if lawful
+                    else out_load[:count][on] / (_QUARTER_PI * e_star),
                     effective_radius=reff[:count][on].copy(),
                     normal_force=out_load[:count][on].copy(),
                     tangential_force=out_ft[:count][on].copy(),

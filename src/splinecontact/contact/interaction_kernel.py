@@ -33,6 +33,21 @@ from .halfplane import (
     mesh_kernel,
 )
 from .interaction import UPLIFT_FACTOR, _accept
+from .interaction_laws import (
+    _FD_STEP,
+    _HALVINGS,
+    _JUMP_AFTER,
+    _MAX_NEWTON,
+    commit_rows,
+    law_bound,
+    law_evaluate,
+    law_widths,
+    newton_rhs,
+    newton_scale,
+    release_dropped,
+    release_unstable,
+)
+from .laws import HERTZ
 from .punch import _profile_widths
 
 __all__ = ["mesh_cache", "run_steps"]
@@ -199,6 +214,82 @@ def _pk_solve(
     return p, -1, residual, phi
 
 
+@numba.njit(cache=True)
+def _law_solve(
+    cache,
+    base: int,
+    delta: NDArray[np.float64],
+    load: NDArray[np.float64],
+    tol: float,
+    ez: NDArray[np.float64],
+    a: NDArray[np.float64],
+    period: float,
+    c: float,
+    op: tuple,
+    law: tuple,
+    rows: NDArray[np.float64],
+    r_eff: NDArray[np.float64],
+) -> tuple:  # pragma: no cover - compiled
+    """P_i = f_i(δ − e_z w(P)) for a law other than Hertz (:mod:`.interaction_laws`): Newton
+    steps, each a constrained CG solve (:func:`_pk_solve`, contacts scaled by √(k̃/k_H)).
+
+    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows.
+    Returns (the law's forces at the converged δ^eff, CG iterations or −1, residual, mesh
+    displacement, δ^eff [µm], the law's widths √2·b [µm]).
+    """
+    code, params, e_star = law
+    n = delta.size
+    k_h = _QUARTER_PI * e_star
+    lower = law_bound(code, params, r_eff)
+    # approach scale: the largest overlap, or the pull-off's approach (δ ≈ 0 at touching)
+    scale = max(np.abs(delta).max(), 0.25 * np.abs(lower).max() / k_h, 1e-300)
+    fd = _FD_STEP * scale
+    coupled_lower = np.zeros(n)
+    if lower.min() < 0.0:
+        coupled_lower, _ = _apply(cache, base, lower, 0.0, ez, op)
+    pos, owner, ez_src, h, start, src, coef = op
+    p = load.copy()
+    force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
+    u, phi = _apply(cache, base, p, 0.0, ez, op)
+    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
+    total = 0
+    since = 0
+    for _ in range(_MAX_NEWTON):
+        misfit = p - force
+        residual = np.abs(misfit).max() / (k_h * scale)
+        if residual <= tol:
+            return force.copy(), total, residual, phi, delta - u, width
+        if since >= _JUMP_AFTER:
+            if release_unstable(code, rows, force, stiffness, ez, a, period, c) == 0:
+                break
+            since = 0
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
+            continue
+        s = newton_scale(stiffness, e_star)
+        rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
+        scaled = (pos, owner, ez_src * s[owner], h, start, src, coef)
+        q, iterations, _, _ = _pk_solve(
+            cache, base, rhs, np.maximum(p - lower, 0.0) / s, 0.1 * tol, ez * s, a, period, c,
+            scaled,
+        )  # fmt: skip
+        if iterations < 0:
+            break
+        total += iterations
+        step = lower + s * q - p
+        merit = np.dot(misfit, misfit)
+        lam = 1.0
+        start_p = p
+        for halving in range(_HALVINGS + 1):
+            p = start_p + lam * step
+            u, phi = _apply(cache, base, p, 0.0, ez, op)
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
+            if np.dot(p - force, p - force) < merit or halving == _HALVINGS:
+                break
+            lam *= 0.5
+        since += 1
+    return force.copy(), -1, np.abs(p - force).max() / (k_h * scale), phi, delta - u, width
+
+
 @numba.njit(cache=True, nogil=True)
 def _hertz_width(
     load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float
@@ -291,6 +382,10 @@ def run_steps(
     out_ft: NDArray[np.float64],
     curves: NDArray[np.float64],
     counts: NDArray[np.int64],
+    law: tuple,
+    law_state: NDArray[np.float64],
+    law_reach: float,
+    cand_point: NDArray[np.int64],
 ) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
     """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
 
@@ -303,6 +398,9 @@ def run_steps(
     (count of the last step's accepted contacts, step that failed to converge or −1, its
     residual, the step at which ``stop_force`` was reached or −1). ``curvature`` is not read
     (the punch widths differentiate the interpolated ``slope``); it keeps the argument list.
+    ``law`` = (code, kernel parameters, E*): a law other than Hertz takes the nonlinear solve of
+    :mod:`.interaction_laws` (its history ``law_state`` per lower grid point, ``cand_point`` the
+    candidates' grid points, its reach [µm]); Hertz takes the linear one, unchanged.
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -314,15 +412,19 @@ def run_steps(
         last_n = int(state[4])
         d = displacement[step]
         increment = d - displacement[step - 1] if step > 0 else 0.0
-        threshold = d + margin
+        lawful = law[0] != HERTZ
+        threshold = d + max(margin, law_reach)
         if threshold > reach:
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
         count = _accept(
-            d, -margin, field[:field_n], field_cell, point_x, n_active,
+            d, -max(margin, law_reach), field[:field_n], field_cell, point_x, n_active,
             (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
+            law_reach,
         )  # fmt: skip
         j = idx[:count].copy()
+        if lawful:
+            release_dropped(law[0], law_state, cand_point, last_j[:last_n].copy(), j)
         previous = np.empty(count)
         older = np.empty(count)
         keep_t = np.empty(count)
@@ -365,7 +467,10 @@ def run_steps(
         dl = delta[:count].copy()
         e_z = ez[:count].copy()
         r_eff = reff[:count].copy()
-        load = np.maximum(guess, 0.0)
+        load = guess.copy() if lawful else np.maximum(guess, 0.0)
+        rows = law_state[cand_point[j]] if lawful else law_state[:0]
+        widths = np.zeros(count)
+        effective = np.zeros(count)
         a_fresh = _hertz_width(_QUARTER_PI * e_star * np.maximum(dl, 0.0), r_eff, e_star, floor)
         a = np.empty(count)
         cc = np.empty(count)
@@ -408,15 +513,22 @@ def run_steps(
                 pos, a_src, count, owner, period, cells, near, cache[base], c0, nodes, qweights
             )
             op = (pos, owner, ez_src, h_mesh, start, src, coef)
-            load, iterations, residual, phi = _pk_solve(
-                cache, base, dl, load, tol, e_z, a, period, c0, op
-            )
+            if lawful:
+                load, iterations, residual, phi, effective, widths = _law_solve(
+                    cache, base, dl, load, tol, e_z, a, period, c0, op, law, rows, r_eff
+                )
+            else:
+                load, iterations, residual, phi = _pk_solve(
+                    cache, base, dl, load, tol, e_z, a, period, c0, op
+                )
             if iterations < 0:
                 return count, step, residual, -1
             total += iterations
             a_new = _hertz_width(load, r_eff, e_star, floor)
             c_new = np.zeros(count)
-            if profile_width:
+            if lawful:
+                a_new = law_widths(widths, load, r_eff, e_star, floor)
+            elif profile_width:
                 src_q = np.empty(sources)
                 for s in range(sources):
                     src_q[s] = ez_src[s] * load[owner[s]]
@@ -428,7 +540,7 @@ def run_steps(
             done = True
             anyload = False
             for k in range(count):
-                if load[k] > 0.0:
+                if load[k] > 0.0 or (lawful and load[k] != 0.0):
                     anyload = True
                 if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(a[k], floor):
                     done = False
@@ -438,6 +550,10 @@ def run_steps(
                 break
         counts[3, step] = total
         on = load > 0.0
+        if lawful:
+            on = (load != 0.0) | (widths > 0.0)
+            commit_rows(law[0], law[1], effective, r_eff, rows, law_state, cand_point[j])
+            delta[:count] = effective  # the contacts record δ^eff
         for k in range(count):
             width_all[j[k]] = a[k] if on[k] else 0.0
             shift_all[j[k]] = cc[k] if on[k] else 0.0
@@ -455,6 +571,7 @@ def run_steps(
         f_tan = 0.0
         area = 0.0
         n_on = 0
+        n_in = 0
         n_tilted = 0
         lo = np.empty(count)
         hi = np.empty(count)
@@ -462,7 +579,7 @@ def run_steps(
             f_n = load[k]
             e_x = ex[k]
             f_t = keep_t[k] - g_star * increment * e_x if previous[k] > 0.0 else 0.0
-            cap = mu0 * f_n
+            cap = mu0 * max(f_n, 0.0)  # an adhesive (tensile) contact carries no friction
             f_t = min(max(f_t, -cap), cap)
             if not on[k]:
                 f_t = 0.0
@@ -476,9 +593,16 @@ def run_steps(
                 fn_t += -f_t * e_x
                 f_norm += f_n * e_z[k] + -f_t * e_x
                 f_tan += f_n * e_x + f_t * e_z[k]
-                area += math.sqrt(f_n / (_QUARTER_PI * e_star) * r_eff[k])
-                lo[n_on] = min(max(x[k] - a[k], 0.0), length)
-                hi[n_on] = min(max(x[k] + a[k], 0.0), length)
+                half = a[k]
+                if lawful:
+                    area += widths[k]
+                    half = widths[k] / math.sqrt(2.0)
+                else:
+                    area += math.sqrt(f_n / (_QUARTER_PI * e_star) * r_eff[k])
+                if half > 0.0:
+                    lo[n_in] = min(max(x[k] - half, 0.0), length)
+                    hi[n_in] = min(max(x[k] + half, 0.0), length)
+                    n_in += 1
                 n_on += 1
                 if e_z[k] < 0.0:
                     n_tilted += 1
@@ -487,7 +611,7 @@ def run_steps(
         curves[2, step] = area
         curves[3, step] = fn_n
         curves[4, step] = fn_t
-        union, pieces = _union_length(lo[:n_on], hi[:n_on])
+        union, pieces = _union_length(lo[:n_in], hi[:n_in])
         curves[5, step] = union
         counts[0, step] = n_on
         counts[1, step] = n_tilted
