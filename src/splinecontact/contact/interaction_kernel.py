@@ -38,6 +38,7 @@ from .interaction_laws import (
     _HALVINGS,
     _JUMP_AFTER,
     _MAX_NEWTON,
+    LAW_TOL_FLOOR,
     commit_rows,
     law_bound,
     law_evaluate,
@@ -229,11 +230,13 @@ def _law_solve(
     law: tuple,
     rows: NDArray[np.float64],
     r_eff: NDArray[np.float64],
+    held: NDArray[np.bool_],
 ) -> tuple:  # pragma: no cover - compiled
     """P_i = f_i(δ − e_z w(P)) for a law other than Hertz (:mod:`.interaction_laws`): Newton
     steps, each a constrained CG solve (:func:`_pk_solve`, contacts scaled by √(k̃/k_H)).
 
-    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows.
+    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows,
+    ``held`` the contacts the jump rule holds apart for the step (updated).
     Returns (the law's forces at the converged δ^eff, CG iterations or −1, residual, mesh
     displacement, δ^eff [µm], the law's widths √2·b [µm]).
     """
@@ -251,41 +254,41 @@ def _law_solve(
     p = load.copy()
     force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
     u, phi = _apply(cache, base, p, 0.0, ez, op)
-    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
+    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
     total = 0
     since = 0
     for _ in range(_MAX_NEWTON):
         misfit = p - force
         residual = np.abs(misfit).max() / (k_h * scale)
-        if residual <= tol:
+        if residual <= max(tol, LAW_TOL_FLOOR):
             return force.copy(), total, residual, phi, delta - u, width
         if since >= _JUMP_AFTER:
-            if release_unstable(code, rows, force, stiffness, ez, a, period, c) == 0:
+            if release_unstable(code, rows, p, force, stiffness, ez, a, period, c, held) == 0:
                 break
             since = 0
-            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
             continue
         s = newton_scale(stiffness, e_star)
         rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
         scaled = (pos, owner, ez_src * s[owner], h, start, src, coef)
+        # (a linear solve stopped at its iteration limit still improves P: the residual below
+        # is the exact law's)
         q, iterations, _, _ = _pk_solve(
-            cache, base, rhs, np.maximum(p - lower, 0.0) / s, 0.1 * tol, ez * s, a, period, c,
-            scaled,
-        )  # fmt: skip
-        if iterations < 0:
-            break
-        total += iterations
+            cache, base, rhs, np.maximum(p - lower, 0.0) / s, tol, ez * s, a, period, c, scaled
+        )
+        total += iterations if iterations >= 0 else _MAX_INNER
         step = lower + s * q - p
         merit = np.dot(misfit, misfit)
-        lam = 1.0
         start_p = p
-        for halving in range(_HALVINGS + 1):
+        for halving in range(_HALVINGS + 2):
+            # the full step again when no halving lowers ‖P − f‖ (a law's jump between the
+            # iterates: the merit is not continuous there)
+            lam = 1.0 if halving > _HALVINGS else 0.5**halving
             p = start_p + lam * step
             u, phi = _apply(cache, base, p, 0.0, ez, op)
-            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness)
-            if np.dot(p - force, p - force) < merit or halving == _HALVINGS:
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+            if np.dot(p - force, p - force) < merit or halving > _HALVINGS:
                 break
-            lam *= 0.5
         since += 1
     return force.copy(), -1, np.abs(p - force).max() / (k_h * scale), phi, delta - u, width
 
@@ -471,6 +474,7 @@ def run_steps(
         rows = law_state[cand_point[j]] if lawful else law_state[:0]
         widths = np.zeros(count)
         effective = np.zeros(count)
+        held = np.zeros(count, dtype=np.bool_)
         a_fresh = _hertz_width(_QUARTER_PI * e_star * np.maximum(dl, 0.0), r_eff, e_star, floor)
         a = np.empty(count)
         cc = np.empty(count)
@@ -515,7 +519,7 @@ def run_steps(
             op = (pos, owner, ez_src, h_mesh, start, src, coef)
             if lawful:
                 load, iterations, residual, phi, effective, widths = _law_solve(
-                    cache, base, dl, load, tol, e_z, a, period, c0, op, law, rows, r_eff
+                    cache, base, dl, load, tol, e_z, a, period, c0, op, law, rows, r_eff, held
                 )
             else:
                 load, iterations, residual, phi = _pk_solve(
@@ -552,7 +556,7 @@ def run_steps(
         on = load > 0.0
         if lawful:
             on = (load != 0.0) | (widths > 0.0)
-            commit_rows(law[0], law[1], effective, r_eff, rows, law_state, cand_point[j])
+            commit_rows(law[0], law[1], effective, r_eff, rows, law_state, cand_point[j], held)
             delta[:count] = effective  # the contacts record δ^eff
         for k in range(count):
             width_all[j[k]] = a[k] if on[k] else 0.0

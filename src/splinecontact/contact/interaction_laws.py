@@ -30,10 +30,13 @@ the law side of the solve; the loop that applies the operator lives with it in
 * **Branches.** A contact is evaluated on the branch its committed state gives (the laws'
   displacement-control rules: stay on a branch while it exists, jump at its fold). Coupling adds
   compliance, so an adhesive contact can lose its stable equilibrium before its law's own fold
-  (the coupled fold, 1 + S_i k_i = 0, S_i its self coefficient along e_z). Rule: when the solve
-  has not converged after ``_JUMP_AFTER`` Newton steps, the tensile contacts past the coupled
-  fold (1 + S_i k_i ≤ 0) jump out (their trial state lets go, as :func:`.laws.release_law`);
-  if there is none, the tensile contact nearest to it jumps. The histories of the step are
+  (the coupled fold, 1 + S_i k_i = 0, S_i its self coefficient along e_z), and neighbours can
+  push a contact past the end of its branch where its law jumps (no equilibrium is left on the
+  branch: the iterates alternate across the jump). Rule: when the solve has not converged
+  after ``_JUMP_AFTER`` Newton steps, the tensile contacts past the coupled fold
+  (1 + S_i k_i ≤ 0) jump out (their trial state lets go, as :func:`.laws.release_law`); if
+  there is none, the tensile contact of largest misfit |P_i − f_i| does; repeated until the
+  solve converges. The histories of the step are
   committed only once the step has converged (:func:`commit_rows`), as without interaction.
 * **Widths.** Each contact's half-width in the neighbour and self relations is its law's own
   (b = width/√2), at least √(2|P| R_eff/(πE*)) (the Hertz width of its load: an adhesive contact
@@ -54,6 +57,8 @@ from numpy.typing import NDArray
 from .laws import HERTZ, commit_law, normal_law, release_law
 
 __all__ = [
+    "LAW_TOL_FLOOR",
+    "STIFFNESS_FLOOR",
     "commit_rows",
     "law_bound",
     "law_evaluate",
@@ -69,8 +74,12 @@ _QUARTER_PI = 0.25 * math.pi
 #: Lower clip of the tangent stiffness in the Newton matrix, × k_H [1].
 STIFFNESS_FLOOR = 1e-2
 
+#: Smallest residual the law solve is asked for [1] (|P − f|/k_H over the approach scale):
+#: the laws' own roots (JKR's quartic, Maugis–Dugdale's Newton) are accurate to about 1e−12.
+LAW_TOL_FLOOR = 1e-10
+
 #: Newton steps without convergence after which the coupled fold rule lets contacts jump out.
-_JUMP_AFTER = 40
+_JUMP_AFTER = 25
 
 #: Most halvings of a Newton step.
 _HALVINGS = 6
@@ -117,11 +126,18 @@ def law_evaluate(
     force: NDArray[np.float64],
     width: NDArray[np.float64],
     stiffness: NDArray[np.float64],
+    held: NDArray[np.bool_],
 ) -> None:  # pragma: no cover - compiled
     """Trial force [mN/µm], width √2·b [µm] and tangent dF/dδ [GPa] of every contact at the
     effective approaches ``x`` [µm] (``rows``: the contacts' history rows, row i for contact
-    i; only memos are written), the tangent by a forward difference of ``step`` [µm]."""
+    i; only memos are written), the tangent by a forward difference of ``step`` [µm]; a contact
+    ``held`` apart by the jump rule carries nothing."""
     for i in range(x.size):
+        if held[i]:
+            force[i] = 0.0
+            width[i] = 0.0
+            stiffness[i] = 0.0
+            continue
         f, b = normal_law(code, params, x[i], r_eff[i], rows, i)
         g, _ = normal_law(code, params, x[i] + step, r_eff[i], rows, i)
         force[i] = f
@@ -163,32 +179,37 @@ def newton_rhs(
 def release_unstable(
     code: int,
     rows: NDArray[np.float64],
+    load: NDArray[np.float64],
     force: NDArray[np.float64],
     stiffness: NDArray[np.float64],
     ez: NDArray[np.float64],
     a: NDArray[np.float64],
     period: float,
     c: float,
+    held: NDArray[np.bool_],
 ) -> int:  # pragma: no cover - compiled
-    """The coupled fold rule: tensile contacts with 1 + S_i k_i ≤ 0 let go (trial rows), else
-    the tensile contact of smallest 1 + S_i k_i; S_i = e_z² c (ln(L_p/(π a_i)) − 3/2) [µm per
-    mN/µm]. Returns the number released (0: none tensile, the solve fails)."""
+    """The jump rule of a solve that does not converge: the tensile contacts past the coupled
+    fold (1 + S_i k_i ≤ 0, S_i = e_z² c (ln(L_p/(π a_i)) − 3/2) [µm per mN/µm]) let go (their
+    trial rows, :func:`.laws.release_law`); if there is none, the tensile contact of largest
+    misfit |P_i − f_i| (one at a jump of its law, where no equilibrium is left on either side)
+    is held apart for the rest of the step (``held``; its branch lets go). Returns the number
+    released (0: none tensile)."""
     released = 0
-    nearest = -1
-    smallest = np.inf
+    worst = -1
+    largest = -1.0
     for i in range(force.size):
-        if force[i] >= 0.0:
+        if held[i] or (force[i] >= 0.0 and load[i] >= 0.0):
             continue
         self_part = max(c * (math.log(period / (math.pi * a[i])) - 1.5), 0.0)
-        margin = 1.0 + ez[i] * ez[i] * self_part * stiffness[i]
-        if margin <= 0.0:
+        if 1.0 + ez[i] * ez[i] * self_part * stiffness[i] <= 0.0:
             release_law(code, rows, i)
             released += 1
-        elif margin < smallest:
-            smallest = margin
-            nearest = i
-    if released == 0 and nearest >= 0:
-        release_law(code, rows, nearest)
+        elif abs(load[i] - force[i]) > largest:
+            largest = abs(load[i] - force[i])
+            worst = i
+    if released == 0 and worst >= 0:
+        release_law(code, rows, worst)
+        held[worst] = True
         released = 1
     return released
 
@@ -218,13 +239,16 @@ def commit_rows(
     rows: NDArray[np.float64],
     law_state: NDArray[np.float64],
     points: NDArray[np.int64],
+    held: NDArray[np.bool_],
 ) -> None:  # pragma: no cover - compiled
     """Commit the converged step: each contact's history at its effective approach ``x`` [µm]
-    (:func:`.laws.commit_law` on its trial row), copied to its grid point's row."""
+    (:func:`.laws.commit_law` on its trial row; a contact ``held`` apart keeps its released
+    row), copied to its grid point's row."""
     if rows.shape[1] == 0 or code == HERTZ:
         return
     for i in range(x.size):
-        commit_law(code, params, x[i], r_eff[i], rows, i)
+        if not held[i]:
+            commit_law(code, params, x[i], r_eff[i], rows, i)
         law_state[points[i]] = rows[i]
 
 
