@@ -5,7 +5,7 @@ P_i = f_i(δ_i^eff; state_i) with δ^eff = δ − e_z (C P). Its oracles:
 
 * **Limits.** With w = 0 (adhesive laws) or S_y → ∞ (elastic–plastic) every law is eq. 10's
   Hertz law, so the solve must give interacting Hertz (the linear complementarity solve) to the
-  solve's tolerance (both 1e−12; the law solve stops at ``LAW_TOL_FLOOR`` = 1e−10 of the approach
+  solve's tolerance (both 1e−12; the law solve stops at ``LAW_TOL_FLOOR`` = 1e−9 of the approach
   scale at most, here it meets 1e−12 because the w = 0 laws are Hertz in closed form).
 * **One contact, periodic.** A contact without neighbour or image couples only to itself: its
   vertical displacement is e_z P S(a) with S(a) = c (ln(L_p/(π a)) − 3/2), c = 2/(πE*) (the part
@@ -58,9 +58,15 @@ def rough() -> tuple[Profile, Profile]:
     return lower, upper
 
 
-def _reach(lower: Profile, upper: Profile) -> float:
-    """The largest approach of the paths [µm]: 0.2 × the summed peak-to-valley heights."""
-    return 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
+def _reach(lower: Profile, upper: Profile, fraction: float = 0.12) -> float:
+    """The largest approach of the paths [µm]: ``fraction`` × the summed peak-to-valley heights.
+
+    At 0.12 eq. 9 accepts the same contacts at every δ_N on the way in and out (2–9 contacts).
+    Above it, interacting SAD itself (with Hertz) accepts a lifted summit on one way and not
+    the other (the uplift of the previous step decides), so even Hertz's cycle is not closed
+    (0.1–1 % of F_max δ_max at 0.15–0.2 on these profiles): the energy oracle needs equal sets.
+    """
+    return fraction * (lower.peak_to_valley + upper.peak_to_valley)
 
 
 def _cycle(d_max: float, steps: int = 12) -> list[Segment]:
@@ -90,7 +96,7 @@ LIMITS = [
 @pytest.mark.parametrize("law", LIMITS, ids=lambda law: type(law).__name__)
 def test_each_law_in_its_limit_is_interacting_hertz(rough, law) -> None:  # type: ignore[no-untyped-def]
     lower, upper = rough
-    path = _cycle(_reach(lower, upper))
+    path = _cycle(_reach(lower, upper, 0.2))
     hertz = simulate(lower, upper, path=path, interaction=TIGHT, diagnostics=False)
     result = simulate(lower, upper, path=path, law=law, interaction=TIGHT, diagnostics=False)
     scale = float(hertz.normal_force.max())
@@ -169,6 +175,9 @@ def test_load_unload_cycle_dissipates_nothing_negative(rough, law, flat) -> None
         interaction=TIGHT, mu0=0.0, diagnostics=False,
     )  # fmt: skip
     assert result.n_contacts.max() >= 2
+    counts = result.n_contacts[3:]
+    if isinstance(law, Hertz):  # the oracle's premise: the same contacts in and out
+        np.testing.assert_array_equal(counts, counts[::-1])
     f = result.normal_force
     scale = float(np.abs(f).max()) * float(result.displacement.max())
     assert scale > 0.0
@@ -199,10 +208,11 @@ def test_plastic_residual_is_remembered_on_reloading(rough) -> None:  # type: ig
     f = result.normal_force
     scale = float(f.max())
     first, unload, reload = f[:11], f[10:21][::-1], f[20:31]
-    # reloading retraces the unloading line (elastic, the flattened shape remembered) …
-    np.testing.assert_allclose(reload, unload, rtol=0, atol=1e-9 * scale)
+    # reloading retraces the unloading line (elastic, the flattened shape remembered) to the
+    # law solve's tolerance (LAW_TOL_FLOOR = 1e-9 of the approach scale per step) …
+    np.testing.assert_allclose(reload, unload, rtol=0, atol=1e-8 * scale)
     # … which lies below the first loading: the pair touches later (residual interference)
-    assert np.all(reload <= first + 1e-9 * scale)
+    assert np.all(reload <= first + 1e-8 * scale)
     assert np.any(reload < first - 1e-2 * scale)
     assert f[20] == 0.0 and np.argmax(reload > 0.0) > np.argmax(first > 0.0)
 

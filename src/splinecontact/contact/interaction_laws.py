@@ -76,7 +76,7 @@ STIFFNESS_FLOOR = 1e-2
 
 #: Smallest residual the law solve is asked for [1] (|P − f|/k_H over the approach scale):
 #: the laws' own roots (JKR's quartic, Maugis–Dugdale's Newton) are accurate to about 1e−12.
-LAW_TOL_FLOOR = 1e-10
+LAW_TOL_FLOOR = 1e-9
 
 #: Newton steps without convergence after which the coupled fold rule lets contacts jump out.
 _JUMP_AFTER = 25
