@@ -257,11 +257,15 @@ def _law_solve(
     law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
     total = 0
     since = 0
+    last = np.inf
     for _ in range(_MAX_NEWTON):
         misfit = p - force
         residual = np.abs(misfit).max() / (k_h * scale)
-        if residual <= max(tol, LAW_TOL_FLOOR):
+        # converged at tol, or stalled (at roundoff or the laws' own root accuracy) below the
+        # floor
+        if residual <= tol or (residual <= LAW_TOL_FLOOR and residual > 0.5 * last):
             return force.copy(), total, residual, phi, delta - u, width
+        last = residual
         if since >= _JUMP_AFTER:
             if release_unstable(code, rows, p, force, stiffness, ez, a, period, c, held) == 0:
                 break

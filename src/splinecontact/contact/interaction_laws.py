@@ -74,8 +74,10 @@ _QUARTER_PI = 0.25 * math.pi
 #: Lower clip of the tangent stiffness in the Newton matrix, × k_H [1].
 STIFFNESS_FLOOR = 1e-2
 
-#: Smallest residual the law solve is asked for [1] (|P − f|/k_H over the approach scale):
-#: the laws' own roots (JKR's quartic, Maugis–Dugdale's Newton) are accurate to about 1e−12.
+#: Residual [1] (|P − f|/k_H over the approach scale) below which a law solve that stops
+#: improving (by less than half in a Newton step) is accepted although above the tolerance:
+#: roundoff of the coupled sums and the laws' own roots (JKR's quartic, Maugis–Dugdale's
+#: Newton) stall the residual near 1e−12…1e−10 on rough pairs.
 LAW_TOL_FLOOR = 1e-9
 
 #: Newton steps without convergence after which the coupled fold rule lets contacts jump out.
