@@ -277,8 +277,10 @@ def _law_solve(
         scaled = (pos, owner, ez_src * s[owner], h, start, src, coef)
         # (a linear solve stopped at its iteration limit still improves P: the residual below
         # is the exact law's)
+        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12)
+        inner = max(min(0.1 * residual, tol), 1e-12)
         q, iterations, _, _ = _pk_solve(
-            cache, base, rhs, np.maximum(p - lower, 0.0) / s, tol, ez * s, a, period, c, scaled
+            cache, base, rhs, np.maximum(p - lower, 0.0) / s, inner, ez * s, a, period, c, scaled
         )
         total += iterations if iterations >= 0 else _MAX_INNER
         step = lower + s * q - p
