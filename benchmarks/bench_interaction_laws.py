@@ -1,7 +1,8 @@
 """Cost of interacting SAD with each contact law against the same path with the Hertz law.
 
 A rough-on-flat Weierstrass–Mandelbrot profile (D = 1.5, seed 1, ``--points`` points over
-``--length`` µm) loaded to 0.1 × its peak-to-valley height and unloaded to −0.02 × it, in
+``--length`` µm) loaded to ``--fraction`` (0.3) × its peak-to-valley height and unloaded to
+−0.2 × that, in
 ``--steps`` steps each way, with ``interaction=True`` and each law (JKR and Maugis–Dugdale
 w = 0.05 J/m², σ0 = 0.5 GPa; DMT the same; elastic–plastic S_y = 0.2 GPa). Each figure is the
 CPU time of this process (``time.process_time``) beside the wall time of the ``simulate`` call,
@@ -45,13 +46,14 @@ def main() -> None:
     parser.add_argument("--points", type=int, default=100_000)
     parser.add_argument("--length", type=float, default=10.0)
     parser.add_argument("--steps", type=int, default=50)
+    parser.add_argument("--fraction", type=float, default=0.3)
     args = parser.parse_args()
     small = weierstrass_mandelbrot(1.5, n_points=1024, length=1.0, seed=1)
     warm = [Segment(normal=0.02, steps=3), Segment(normal=-0.002, steps=3)]
     for law in LAWS:
         _run(small, warm, law)
     profile = weierstrass_mandelbrot(1.5, n_points=args.points, length=args.length, seed=1)
-    top = 0.1 * profile.peak_to_valley
+    top = args.fraction * profile.peak_to_valley
     path = [Segment(normal=top, steps=args.steps), Segment(normal=-0.2 * top, steps=args.steps)]
     print(f"{args.points} points, {args.steps} + {args.steps} steps, rough on flat")
     print("law              cpu [s]  wall [s]  ×Hertz(cpu)  contacts  CG its   ∫F dδ")
@@ -60,10 +62,11 @@ def main() -> None:
         result, cpu, wall = _run(profile, path, law)
         base = cpu if base is None else base
         f, d = result.normal_force, result.displacement
+        iterations = int(result.curves["interaction_iterations"].sum())
         work = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(d)))
         print(
             f"{law.name:16s} {cpu:7.2f}  {wall:8.2f}  {cpu / base:11.2f}  "
-            f"{int(result.n_contacts.max()):8d}  {int(result.curves['interaction_iterations'].sum()):6d}"
+            f"{int(result.n_contacts.max()):8d}  {iterations:6d}"
             f"  {work:.3e}"
         )
 

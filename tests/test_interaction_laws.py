@@ -141,7 +141,9 @@ def test_single_jkr_contact_obeys_closed_form_with_periodic_self_term() -> None:
         assert p == pytest.approx(force, rel=1e-9)
         b = width / math.sqrt(2.0)
         r = 0.5 * r_eff
-        assert d_eff == pytest.approx(b * b / r - 3.0 * math.sqrt(2.0 * w * b / (math.pi * E_STAR)), abs=1e-12)
+        assert d_eff == pytest.approx(
+            b * b / r - 3.0 * math.sqrt(2.0 * w * b / (math.pi * E_STAR)), abs=1e-12
+        )
         a = max(b, math.sqrt(2.0 * abs(p) * r_eff / (math.pi * E_STAR)))
         # the contact is the apex, where SAD's overlap of the circle and the flat is δ_N
         assert rec.point[0] == n and e_z == pytest.approx(1.0, abs=1e-12)
@@ -226,7 +228,7 @@ def test_bad_parameters_give_the_same_errors_with_interaction(rough) -> None:  #
         simulate(lower, "flat", steps=3, law=bad, interaction=True, diagnostics=False)
     with pytest.raises(UnknownContactLawError):
         make_law("no-such-law")
-    with pytest.raises(ParameterError, match="yield_strength|hardness"):
+    with pytest.raises(ParameterError, match=r"yield_strength|hardness"):
         simulate(
             lower, "flat", steps=3, law=ElasticPlastic(yield_strength=0.0), interaction=True,
             diagnostics=False,
