@@ -243,13 +243,13 @@ def _law_solve(
     code, params, e_star = law
     n = delta.size
     k_h = _QUARTER_PI * e_star
-    lower = law_bound(code, params, r_eff)
+    reserve = law_bound(code, params, r_eff)
+    adhesive = reserve.min() < 0.0
     # approach scale: the largest overlap, or the pull-off's approach (δ ≈ 0 at touching)
-    scale = max(np.abs(delta).max(), 0.25 * np.abs(lower).max() / k_h, 1e-300)
+    scale = max(np.abs(delta).max(), 0.25 * np.abs(reserve).max() / k_h, 1e-300)
     fd = _FD_STEP * scale
+    lower = np.zeros(n)
     coupled_lower = np.zeros(n)
-    if lower.min() < 0.0:
-        coupled_lower, _ = _apply(cache, base, lower, 0.0, ez, op)
     pos, owner, ez_src, h, start, src, coef = op
     p = load.copy()
     force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
@@ -272,13 +272,20 @@ def _law_solve(
             since = 0
             law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
             continue
+        if adhesive:
+            # a bound below the loads of the step, never far below them (the shift by the
+            # bound sets the scale of the linear solve): twice the most tensile of P and f,
+            # and a quarter of the pull-off bound
+            lower = 2.0 * np.minimum(np.minimum(p, force), 0.0) + 0.25 * reserve
+            coupled_lower, _ = _apply(cache, base, lower, 0.0, ez, op)
         s = newton_scale(stiffness, e_star)
         rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
         scaled = (pos, owner, ez_src * s[owner], h, start, src, coef)
-        # (a linear solve stopped at its iteration limit still improves P: the residual below
-        # is the exact law's)
-        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12)
-        inner = max(min(0.1 * residual, tol), 1e-12)
+        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12), its
+        # tolerance relative to its right-hand side (a solve stopped at its iteration limit
+        # still improves P: the residual is the exact law's)
+        wanted = max(min(0.1 * residual, tol), 1e-12) * scale
+        inner = min(max(wanted / max(np.abs(rhs).max(), 1e-300), 1e-14), 0.1)
         q, iterations, _, _ = _pk_solve(
             cache, base, rhs, np.maximum(p - lower, 0.0) / s, inner, ez * s, a, period, c, scaled
         )

@@ -24,8 +24,9 @@ the law side of the solve; the loop that applies the operator lives with it in
   one contact of self compliance S_i). The residual is always the exact law, so the converged
   loads satisfy it to the tolerance whatever k̃.
 * **Bounds.** L = 0 for laws without tension (Hertz, elastic–plastic: a contact opens, as in the
-  Hertz problem); for the adhesive laws L_i lies below any force the law can give (four times
-  the JKR and DMT pull-offs of the contact's radius), a safeguard only.
+  Hertz problem); for the adhesive laws L_i = 2 min(P_i, f_i, 0) + (the JKR and DMT pull-offs
+  of the contact's radius), a safeguard below the step's loads that keeps the linear problem's
+  shift, hence its scale, near the loads themselves.
 * **Damping.** Each Newton step is halved (up to ``_HALVINGS`` times) until ‖P − f‖₂ decreases.
 * **Branches.** A contact is evaluated on the branch its committed state gives (the laws'
   displacement-control rules: stay on a branch while it exists, jump at its fold). Coupling adds
@@ -34,9 +35,11 @@ the law side of the solve; the loop that applies the operator lives with it in
   push a contact past the end of its branch where its law jumps (no equilibrium is left on the
   branch: the iterates alternate across the jump). Rule: when the solve has not converged
   after ``_JUMP_AFTER`` Newton steps, the tensile contacts past the coupled fold
-  (1 + S_i k_i ≤ 0) jump out (their trial state lets go, as :func:`.laws.release_law`); if
-  there is none, the tensile contact of largest misfit |P_i − f_i| does; repeated until the
-  solve converges. The histories of the step are
+  (1 + S_i k_i ≤ 0) jump out: their trial state lets go (:func:`.laws.release_law`) and they
+  are held apart for the rest of the step (the next step evaluates them afresh on the branch
+  they then have); if there is none, the tensile contact of largest misfit |P_i − f_i| does;
+  repeated until the solve converges. (A stable equilibrium that the damped iteration does not
+  reach in ``_JUMP_AFTER`` steps, 1 + S_i k_i > 0 but small, is treated the same way.) The histories of the step are
   committed only once the step has converged (:func:`commit_rows`), as without interaction.
 * **Widths.** Each contact's half-width in the neighbour and self relations is its law's own
   (b = width/√2), at least √(2|P| R_eff/(πE*)) (the Hertz width of its load: an adhesive contact
@@ -101,8 +104,8 @@ _MD = 3
 def law_bound(
     code: int, params: NDArray[np.float64], r_eff: NDArray[np.float64]
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Lower bound L_i of the loads [mN/µm]: 0 without tension, else below every force the
-    adhesive law can give (four times the 2D JKR and DMT pull-offs of R = R_eff/2)."""
+    """Reserve below the loads [mN/µm]: 0 without tension, else −4 × (the 2D JKR and DMT
+    pull-offs of R = R_eff/2), below every force the adhesive law gives."""
     out = np.zeros(r_eff.size)
     if code != _JKR and code != _DMT and code != _MD:
         return out
@@ -191,11 +194,11 @@ def release_unstable(
     held: NDArray[np.bool_],
 ) -> int:  # pragma: no cover - compiled
     """The jump rule of a solve that does not converge: the tensile contacts past the coupled
-    fold (1 + S_i k_i ≤ 0, S_i = e_z² c (ln(L_p/(π a_i)) − 3/2) [µm per mN/µm]) let go (their
-    trial rows, :func:`.laws.release_law`); if there is none, the tensile contact of largest
-    misfit |P_i − f_i| (one at a jump of its law, where no equilibrium is left on either side)
-    is held apart for the rest of the step (``held``; its branch lets go). Returns the number
-    released (0: none tensile)."""
+    fold (1 + S_i k_i ≤ 0, S_i = e_z² c (ln(L_p/(π a_i)) − 3/2) [µm per mN/µm]), or if there is
+    none the tensile contact of largest misfit |P_i − f_i| (one at a jump of its law, where no
+    equilibrium is left on either side), let go (their trial rows, :func:`.laws.release_law`)
+    and are held apart for the rest of the step (``held``). Returns the number released (0:
+    none tensile)."""
     released = 0
     worst = -1
     largest = -1.0
@@ -205,6 +208,7 @@ def release_unstable(
         self_part = max(c * (math.log(period / (math.pi * a[i])) - 1.5), 0.0)
         if 1.0 + ez[i] * ez[i] * self_part * stiffness[i] <= 0.0:
             release_law(code, rows, i)
+            held[i] = True  # (DMT has no branch to let go: held apart all the same)
             released += 1
         elif abs(load[i] - force[i]) > largest:
             largest = abs(load[i] - force[i])
