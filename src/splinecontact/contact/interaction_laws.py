@@ -27,7 +27,8 @@ the law side of the solve; the loop that applies the operator lives with it in
   Hertz problem); for the adhesive laws L_i = 2 min(P_i, f_i, 0) + (the JKR and DMT pull-offs
   of the contact's radius), a safeguard below the step's loads that keeps the linear problem's
   shift, hence its scale, near the loads themselves.
-* **Damping.** Each Newton step is halved (up to ``_HALVINGS`` times) until ‖P − f‖₂ decreases.
+* **Damping.** Each Newton step is halved (up to ``_HALVINGS`` times) until ‖P − f‖₂ decreases
+  (the full step when no halving does: the law may jump between the iterates).
 * **Branches.** A contact is evaluated on the branch its committed state gives (the laws'
   displacement-control rules: stay on a branch while it exists, jump at its fold). Coupling adds
   compliance, so an adhesive contact can lose its stable equilibrium before its law's own fold
@@ -39,8 +40,9 @@ the law side of the solve; the loop that applies the operator lives with it in
   are held apart for the rest of the step (the next step evaluates them afresh on the branch
   they then have); if there is none, the tensile contact of largest misfit |P_i − f_i| does;
   repeated until the solve converges. (A stable equilibrium that the damped iteration does not
-  reach in ``_JUMP_AFTER`` steps, 1 + S_i k_i > 0 but small, is treated the same way.) The histories of the step are
-  committed only once the step has converged (:func:`commit_rows`), as without interaction.
+  reach in ``_JUMP_AFTER`` steps, 1 + S_i k_i > 0 but small, is treated the same way.) The
+  histories of the step are committed only once the step has converged
+  (:func:`commit_rows`), as without interaction.
 * **Widths.** Each contact's half-width in the neighbour and self relations is its law's own
   (b = width/√2), at least √(2|P| R_eff/(πE*)) (the Hertz width of its load: an adhesive contact
   attracting at a gap has no contact width, but its tension is spread over its cohesive zone)
