@@ -157,6 +157,48 @@ def test_single_jkr_contact_obeys_closed_form_with_periodic_self_term() -> None:
     assert np.all(np.diff(f[1:11]) > 0.0)
 
 
+def test_single_dmt_contact_obeys_closed_form_with_periodic_self_term() -> None:
+    """The same circle with 2D DMT (w = 0.1 J/m², σ0 = 1 GPa): in contact
+    P = (π/4)E*δ^eff − 2σ0√(R_eff h0), at a gap P = −2σ0√(R_eff (h0 + δ^eff)), h0 = w/σ0, and
+    δ = δ^eff + e_z² S(a) P at every step that carries a force."""
+    n = round(1.0 / ANGSTROM)
+    x = np.arange(-n, n + 1) * ANGSTROM
+    lower = Profile(x, circle_cap(x, 1.0))
+    law = DMT(work_of_adhesion=0.1, cohesive_stress=1.0)
+    sigma0 = 1.0
+    h0 = law.w / sigma0
+    path = [Segment(normal=0.004, steps=10), Segment(normal=-0.002, steps=10)]
+    settings = InteractionSettings(
+        periodic=True, width="hertz", width_iterations=100, tol=1e-12, width_tol=1e-13
+    )
+    result = simulate(
+        lower, "flat", path=path, law=law, interaction=settings, e_star=E_STAR,
+        record_contacts="all", diagnostics=False,
+    )  # fmt: skip
+    period = lower.n_points * lower.dx
+    checked = 0
+    for rec in result.contacts:
+        if rec.point.size == 0:
+            continue
+        p = float(rec.normal_force[0])
+        d_eff = float(rec.overlap[0])
+        r_eff = float(rec.effective_radius[0])
+        if d_eff >= 0.0:
+            closed = 0.25 * math.pi * E_STAR * d_eff - 2.0 * sigma0 * math.sqrt(r_eff * h0)
+            b = math.sqrt(0.5 * d_eff * r_eff)
+        else:
+            closed = -2.0 * sigma0 * math.sqrt(r_eff * (h0 + d_eff))
+            b = 0.0
+        assert p == pytest.approx(closed, rel=1e-9, abs=1e-15)
+        a = max(b, math.sqrt(2.0 * abs(p) * r_eff / (math.pi * E_STAR)))
+        assert rec.point[0] == n
+        expected = d_eff + float(rec.normal_z[0]) ** 2 * p * self_coefficient(a, period, E_STAR)
+        assert expected == pytest.approx(float(result.displacement[rec.step]), abs=1e-9 * 0.004)
+        checked += 1
+    assert checked >= 15
+    assert result.normal_force.min() < 0.0
+
+
 @pytest.mark.parametrize(
     "law",
     [
