@@ -256,8 +256,8 @@ def test_force_control_on_a_rough_pair_holds_or_says_where(rough) -> None:  # ty
 def test_normal_only_path_is_the_interacting_normal_path(rough) -> None:  # type: ignore[no-untyped-def]
     """A path without sliding or force control runs the interacting normal path (bit-identical
     to the monotone interacting loading); the sliding driver on the same path, with the widths
-    converged at every step (no lag of the widths behind the loads, which the driver restarts
-    at every step), agrees with it to the tolerance of the contact-level solve."""
+    converged at every step (no lag of the widths behind the loads), agrees with it to the
+    tolerance of the contact-level solve."""
     from splinecontact.contact.interaction_slide import run_interacting_path
     from splinecontact.contact.simulation import spline_fits
 

@@ -156,6 +156,7 @@ def _accept(
     columns: tuple,
     dx: float,
     out: tuple,
+    held: NDArray[np.bool_] | None = None,
     reach: float = 0.0,
 ) -> int:  # pragma: no cover - compiled
     """SAD's acceptance (Table 1, eqs. 7–10, eq. 9) of the first ``n_active`` candidates at
@@ -164,12 +165,16 @@ def _accept(
     ``columns`` = (gap0, κ^l, κ^u, m_x, m_z, n_x, n_z) of the candidates; the accepted ones go
     to ``out`` = (index, δ, e_x, e_z, R_eff, offset, centre height); returns their number.
     A law acting at a gap (``reach`` [µm] > 0) keeps every candidate with δ > −reach.
+    With ``held`` (a mask over the candidates) the masked candidates are taken whatever their
+    overlap and centre (eq. 9 not tested; Table 1 at ``d``).
     """
     gap0, kl, ku, mx, mz, nx, nz = columns
     out_index, out_delta, out_ex, out_ez, out_reff, out_offset, out_offset_z = out
     half_dx = 0.5 * dx
     count = 0
     for j in range(n_active):
+        if held is not None and not held[j]:
+            continue
         k_l = kl[j]
         k_u = ku[j]
         k_sum = k_l + k_u
@@ -191,9 +196,9 @@ def _accept(
         delta = (dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)) / (
             y_norm + k_sum
         )
-        if delta <= delta_min:
+        if held is None and delta <= delta_min:
             continue
-        if delta <= 0.0 and delta <= -reach:
+        if held is None and delta <= 0.0 and delta <= -reach:
             # an open summit can only touch where the surface has risen towards it: the mesh
             # displacement of the previous step (smooth, so it underestimates the rise next to
             # loaded contacts only where the surface is pushed down anyway)
@@ -205,7 +210,7 @@ def _accept(
             if delta <= -UPLIFT_FACTOR * rise:
                 continue
         offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
-        if not (-half_dx <= offset < half_dx):
+        if held is None and not (-half_dx <= offset < half_dx):
             continue
         out_index[count] = j
         out_delta[count] = delta
@@ -302,6 +307,9 @@ def interacting_loading(
     settings: InteractionSettings = InteractionSettings(),
     record_steps: NDArray[np.int64] | None = None,
     law: Any = None,
+    contact_set: NDArray[np.bool_] | None = None,
+    mesh: Any = None,
+    carry: dict[str, Any] | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -327,6 +335,16 @@ def interacting_loading(
         Hertz: eq. 10 and the linear solve; another law: the nonlinear contact-level solve of
         :mod:`.interaction_laws` (the contacts' widths are then the law's own, whatever
         ``settings.width``).
+    contact_set : array of bool, optional
+        A mask over the geometry's candidates: every step after the first takes the masked
+        candidates as its contacts without the eq. 9 test (force control holds them fixed).
+    mesh : numba typed list, optional
+        A kernel cache of :func:`.interaction_kernel.mesh_cache` to reuse across calls with the
+        same period and E* (its meshes are computed once).
+    carry : dict, optional
+        In and out: the state after the last step of a previous call (loads, widths, mesh
+        displacement, candidates by grid point). Given non-empty, step 0 is that state (not
+        solved again) and the steps run from 1; replaced by the state after the last step.
 
     Returns
     -------
@@ -414,7 +432,7 @@ def interacting_loading(
     sines, punch_weights = _punch_quadrature()
     nodes, node_weights = _quadrature()
     largest_mesh = max(max_cells, cells or 0)
-    cache = mesh_cache(largest_mesh)
+    cache = mesh_cache(largest_mesh) if mesh is None else mesh
     state = np.array([0.0, 0.0, period, 1.0, 0.0])
     field = np.zeros(largest_mesh)
     per_contact = [np.zeros(n_cand) for _ in range(5)]  # load, older, tangential, width, shift
@@ -427,7 +445,21 @@ def interacting_loading(
     dummy = np.zeros(1)
     contacts: list[ContactRecord] = []
     stops = [*(int(s) + 1 for s in np.flatnonzero(record)), n_steps]
+    held = {} if contact_set is None else {"hold": np.asarray(contact_set, dtype=np.bool_)[order]}
     first = 0
+    if carry:  # the previous call's state on these candidates, matched by grid point
+        _, old, new = np.intersect1d(carry["points"], points, return_indices=True)
+        for mine, theirs in zip(per_contact, carry["per_contact"], strict=True):
+            mine[new] = theirs[old]
+        lookup = np.full(int(max(points.max(), carry["points"].max())) + 1, -1)
+        lookup[points] = np.arange(n_cand)
+        last = lookup[carry["last_points"]]
+        last = last[last >= 0]
+        last_j[: last.size] = last
+        state[:] = carry["state"]
+        state[4] = last.size
+        field[: carry["field"].size] = carry["field"]
+        first = 1
     for stop in stops:
         if first >= n_steps:
             break  # stop_force reached
@@ -440,7 +472,7 @@ def interacting_loading(
             int(settings.width_iterations), not settings.periodic, mirror_axis, period,
             cells or 0, max_cells, slope is not None, dummy if slope is None else slope, dummy,
             sines, punch_weights, nodes, node_weights, floor, cache, state, field,
-            *per_contact, last_j, idx, *scratch, sums, counts, *law_args, points,
+            *per_contact, last_j, idx, *scratch, sums, counts, *law_args, points, **held,
         )  # fmt: skip
         if failed >= 0:
             raise NoConvergenceError(
@@ -476,6 +508,11 @@ def interacting_loading(
                     normal_z=ez[:count][on].copy(),
                 )
             )
+    if carry is not None:
+        carry.update(
+            points=points, per_contact=per_contact, state=state, field=field[: int(state[3])],
+            last_points=points[last_j[: int(state[4])]],
+        )  # fmt: skip
     names = (
         "normal_force",
         "tangential_force",

@@ -402,6 +402,7 @@ def run_steps(
     law_state: NDArray[np.float64],
     law_reach: float,
     cand_point: NDArray[np.int64],
+    hold: NDArray[np.bool_] | None = None,
 ) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
     """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
 
@@ -417,6 +418,9 @@ def run_steps(
     ``law`` = (code, kernel parameters, E*): a law other than Hertz takes the nonlinear solve of
     :mod:`.interaction_laws` (its history ``law_state`` per lower grid point, ``cand_point`` the
     candidates' grid points, its reach [µm]); Hertz takes the linear one, unchanged.
+    ``hold`` (a mask over the candidates, gap order): every step after step 0 takes the masked
+    candidates as its contacts, eq. 9 not tested (the unilateral condition still unloads those
+    whose effective approach is ≤ 0), so that the loads are continuous in δ_N.
     """
     c0 = 2.0 / (math.pi * e_star)
     count = 0
@@ -433,9 +437,12 @@ def run_steps(
         if threshold > reach:
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
+        if hold is not None and step > 0:  # the held set, whatever eq. 9 says
+            n_active = closing_gap.size
         count = _accept(
             d, -max(margin, law_reach), field[:field_n], field_cell, point_x, n_active,
             (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
+            hold if step > 0 else None,
             law_reach,
         )  # fmt: skip
         j = idx[:count].copy()

@@ -9,22 +9,33 @@ configuration (u_T, δ_N) of the upper body:
   curvatures (eqs. 4–8) are those of the shifted geometry.
 * **Contacts and normal loads** from the interacting solve of :mod:`.interaction` (eq. 9,
   Table 1, eq. 10 with the elastic half-plane, interaction along the contact normals) on that
-  geometry, as a two-step loading at the current shift: δ_N of the previous step, then δ_N of
-  this one, so that this step is warm-started from the previous δ_N and summits lifted by the
-  surface's rise are tested against its displacement (as in the normal loading). The contact
-  widths get at least ``WIDTH_ITERATIONS`` updates per displacement-controlled step, the
-  settings' own number in force-controlled steps.
+  geometry, one step continuing the state of the committed step (its loads, widths and mesh
+  displacement, matched to the candidates at the current shift by grid point): the step is
+  warm-started from the previous one and summits lifted by the surface's rise are tested
+  against its displacement, as in the normal loading (the first step starts from contact-free
+  at δ_N = 0). The contact widths get at least ``WIDTH_ITERATIONS`` updates per
+  displacement-controlled step. A force-controlled step does not continue the state: every
+  trial is a two-step loading at the current shift (the previous δ_N from contact-free, then
+  the trial's) with the settings' own number of width updates.
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
   old and new tangents, and the Coulomb cap μ0 P_i with P_i the coupled normal load.
-* **Force control**: δ_N is solved at every step so that the coupled F_N meets the target
-  (:func:`.loadpath._solve_force`: bracketing, then Illinois regula falsi), each trial a full
-  coupled solve at the step's shift with the springs not committed; the contact-level solve of
-  these steps is tightened to ``FORCE_SOLVE_TOL`` so that F_N(δ_N) is smooth to well below the
-  tolerance. Where F_N(δ_N) jumps across the target (a contact accepted or dropped by eq. 9),
-  the nearer side is taken and a ``RuntimeWarning`` says so (the miss stays visible as
-  ``normal_force − normal_force_target``).
+* **Force control**: δ_N is solved at every step so that the coupled F_N meets the target,
+  each trial a full coupled solve at the step's shift with the springs not committed and the
+  contact-level solve tightened to ``FORCE_SOLVE_TOL``. The free F_N(δ_N) jumps where eq. 9
+  accepts or drops a contact, so, as the non-interacting path does, the step's contact set
+  (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
+  is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
+  nothing; the first step of every trial does not depend on it), and F_N(δ_N) is
+  continuous (secant steps, :func:`_solve_continuous`). The set is
+  re-taken from the free model at the solved δ_N until the two agree (then the step is the
+  free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
+  model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
+  side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
+* **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
+  wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
+  path, naming the path's step; a force-controlled trial there counts as above the target.
 
 The loop over steps runs in Python, each step one compiled coupled solve (cost in
 ``docs/accuracy.md``).
@@ -42,16 +53,17 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import LoadPathError, NoConvergenceError
+from ..errors import LoadPathError, NoConvergenceError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
 from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
-from .interaction import InteractionSettings, interacting_loading
+from .interaction import InteractionSettings, _check_finite, interacting_loading
+from .interaction_kernel import mesh_cache
 from .laws import spring_sums
-from .loadpath import _prepare, _solve_force
+from .loadpath import FORCE_RTOL, _prepare, _solve_force
 from .path_kernel import (
     Scratch,
     Springs,
@@ -69,17 +81,26 @@ __all__ = ["FORCE_SOLVE_TOL", "WIDTH_ITERATIONS", "run_interacting_path"]
 FORCE_SOLVE_TOL = 1e-11
 
 #: Width updates per step [1] (at least; they stop once the widths change by less than
-#: ``width_tol``). Every step restarts the widths from the Hertz widths of the previous δ_N at
-#: the current shift: on 2048-point profiles one update left F_N 6–7 % off the converged
-#: widths, two 1 %, three 0.1–0.14 %; five or more made the width loop diverge at some steps
-#: of a 10⁵-point rough pair (a step whose solve fails is repeated with the settings' own
-#: number of updates).
+#: ``width_tol``). Chosen when every step restarted the widths from the Hertz widths of the
+#: previous δ_N (before the committed state was continued): on 2048-point profiles one update
+#: left F_N 6–7 % off the converged widths, two 1 %, three 0.1–0.14 %; five or more made the
+#: width loop diverge at some steps of a 10⁵-point rough pair (a step whose solve fails is
+#: repeated with the settings' own number of updates).
 WIDTH_ITERATIONS = 3
+
+#: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
+SET_ROUNDS = 4
+
+#: Steps on which the held F_N falls before a held set is given up [1] (:func:`_solve_continuous`).
+MAX_FALLS = 8
 
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
+
+#: A held contact set: grid points [1] and the springs' migration window [cells].
+Held = tuple[NDArray[np.int64], int]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -192,6 +213,14 @@ class _Driver:
         self.u = 0.0
         self.d = 0.0
         self._columns: tuple[float, float, tuple[NDArray[np.float64], ...]] | None = None
+        # the meshes of the coupled solve (same period and E* at every step), built once
+        cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
+        self.mesh = mesh_cache(cells)
+        # the state of the committed step, continued by the next one
+        self.carry: dict[str, Any] = {}
+        # the last δ_N [µm] found beyond the model's validity (force control)
+        self.beyond: float | None = None
+        self.period = (1 if settings.periodic else 2) * self.n * self.dx
 
     @staticmethod
     def _scratch(capacity: int) -> Scratch:
@@ -218,26 +247,60 @@ class _Driver:
         return columns
 
     def _solve(
-        self, geometry: ContactGeometry, settings: InteractionSettings, tol: float | None
-    ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
-        """The coupled two-step loading (:func:`.interaction.interacting_loading`), repeated
-        with the given settings' width updates if the width loop made it fail."""
+        self,
+        geometry: ContactGeometry,
+        settings: InteractionSettings,
+        tol: float | None,
+        held: NDArray[np.bool_] | None,
+        carry: dict[str, Any],
+    ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
+        """The coupled step (:func:`.interaction.interacting_loading`) continuing ``carry``,
+        repeated with the given settings' width updates if the width loop made it fail; ``None``
+        where a contact grew too wide for the period (the model's validity, see
+        :func:`.interaction._check_finite`)."""
         chosen = settings if tol is None else dataclasses.replace(settings, tol=tol)
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([1]),
+                settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
+                carry=carry,
             )  # fmt: skip
         except NoConvergenceError:
             if settings.width_iterations == self.given.width_iterations:
                 raise
-            return self._solve(geometry, self.given, tol)
+            return self._solve(geometry, self.given, tol, held, carry)
+        except ParameterError as error:
+            if "left its validity" not in str(error):
+                raise
+            return None
+
+    def _valid(self, contacts: tuple[ContactRecord, ...]) -> bool:
+        """Every loaded contact's Hertz half-width √(2 P R_eff/(πE*)) [µm] below L_p/π, the
+        validity of the periodic half-plane model (where the normal path's loads, whose widths
+        grow from step to step, become infinite)."""
+        if not contacts:
+            return True
+        c = contacts[0]
+        widest = float(np.max(2.0 * c.normal_force * c.effective_radius, initial=0.0))
+        return math.sqrt(widest / (math.pi * self.e_star)) < self.period / math.pi
+
+    def window(self, u: float, d: float) -> int:
+        """Cells within which a vanished contact may continue (:func:`._migration.migrate`)
+        from the current configuration to (u_T = u, δ_N = d) [µm]."""
+        return int(migrate_cells_of(u - self.u, d - self.d, self.dx, self.n))
 
     def evaluate(
-        self, u: float, d: float, commit: bool, tol: float | None = None
+        self,
+        u: float,
+        d: float,
+        commit: bool,
+        tol: float | None = None,
+        held: Held | None = None,
     ) -> tuple[tuple[float, ...], ContactRecord | None]:
         """The configuration (u_T = u, δ_N = d) after the current one: the per-step values of
-        ``_NAMES`` and the loaded contacts (springs committed with ``commit``)."""
+        ``_NAMES`` and the loaded contacts (springs committed with ``commit``). With ``held``
+        = (grid points, migration window [cells]) the contacts of the configuration are those
+        points, eq. 9 not tested, and the springs migrate within that window."""
         point, gap0, k_l, k_u, m_x, m_z, n_x, n_z = self.columns(u, max(d, self.d))
         index = point.astype(np.int64)
         geometry = ContactGeometry(
@@ -248,7 +311,22 @@ class _Driver:
         )  # fmt: skip
         # force-controlled steps (tol given) keep the settings' width updates: with more, their
         # many trials cost several times as much and the width loop can fail to converge
-        curves, contacts = self._solve(geometry, self.settings if tol is None else self.given, tol)
+        mask = None if held is None else np.isin(index, held[0])
+        # a displacement step continues the committed state; a force-controlled step is a
+        # two-step loading (the previous δ_N from contact-free, then d) whose first step does
+        # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
+        # the history of the widths (unloading in force needed more δ_N, not less)
+        carry = {} if tol is not None else dict(self.carry)
+        solved = self._solve(
+            geometry, self.settings if tol is None else self.given, tol, mask, carry
+        )
+        if solved is None or not self._valid(solved[1]):
+            # beyond validity: an infinite F_N (above any force target)
+            self.beyond = d
+            if commit:
+                self.u, self.d = u, d
+            return (math.inf, *(math.nan,) * 7, 0, 0, math.nan, 0, 0, 0), None
+        curves, contacts = solved
         record = contacts[0] if contacts else None
         n_c = 0 if record is None else record.point.size
         if n_c > self.scratch.idx.size:
@@ -262,7 +340,7 @@ class _Driver:
             s.ez[:n_c] = record.normal_z[order]
             s.xc[:n_c] = record.x[order]
             s.width[:n_c] = np.sqrt(record.overlap[order] * record.effective_radius[order])
-        window = int(migrate_cells_of(u - self.u, d - self.d, self.dx, self.n))
+        window = self.window(u, d) if held is None else held[1]
         f_n, f_t, area, fn_n, fn_t, tilted, slipping, work = _spring_step(
             u - self.u, d - self.d, n_c, window, self.g_star, self.mu0, commit, self.springs, s
         )
@@ -274,7 +352,142 @@ class _Driver:
         )  # fmt: skip
         if commit:
             self.u, self.d = u, d
+            self.carry = carry
         return values, record
+
+
+class _HeldSetFails(Exception):
+    """A held contact set whose F_N(δ_N) stops rising before the target."""
+
+
+def _solve_continuous(
+    target: float, evaluate: Any, d0: float, f0: float, scale: float
+) -> tuple[float, float]:
+    """δ_N with F_N(δ_N) = target [mN/µm] for an F_N continuous and increasing in δ_N (the
+    contact set held): secant steps from (d0, f0) [µm, mN/µm], kept inside the bracket once
+    one is known (Illinois regula falsi where a secant step leaves it). Returns (δ_N, F_N);
+    where F_N still jumps across the target (the remaining bracket at rounding level), the
+    nearer side. Raises :class:`_HeldSetFails` where F_N falls ``MAX_FALLS`` times while δ_N
+    moves towards the target before a bracket is found (the held set cannot carry it: its
+    sphere geometry, eqs. 4–8, holds for small overlaps only), or beyond 2 × ``scale`` [µm]."""
+    limit = 2.0 * scale  # beyond this the bodies interpenetrate over their full height
+    r0 = f0 - target
+    if abs(r0) <= FORCE_RTOL * target:
+        return d0, f0
+    lo, r_lo, hi, r_hi = -math.inf, -math.inf, math.inf, math.inf
+    if r0 < 0.0:
+        lo, r_lo = d0, r0
+    else:
+        hi, r_hi = d0, r0
+    step = math.copysign(max(1e-6 * scale, 1e-3 * abs(d0), 1e-12), -r0)
+    x0, x1 = d0, d0 + step
+    side = 0
+    falls = 0
+    for _ in range(200):
+        x1 = min(max(x1, -limit), limit)
+        r1 = float(evaluate(x1)) - target
+        if abs(r1) <= FORCE_RTOL * target:
+            return x1, r1 + target
+        if r1 < 0.0:
+            lo, r_lo = x1, r1
+            side = -1 if side != -1 else -2
+        else:
+            hi, r_hi = x1, r1
+            side = 1 if side != 1 else 2
+        if math.isfinite(lo) and math.isfinite(hi):
+            if abs(hi - lo) <= 4.0 * np.spacing(max(abs(hi), abs(lo), 1e-300)):
+                break
+            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else math.nan
+            if not lo < guess < hi:  # Illinois: halve the weight of the side kept twice
+                w_lo = r_hi * (0.5 if side == 2 else 1.0)
+                w_hi = r_lo * (0.5 if side == -2 else 1.0)
+                guess = (lo * w_lo - hi * w_hi) / (w_lo - w_hi)
+                if not lo < guess < hi:
+                    guess = 0.5 * (lo + hi)
+        else:
+            # extrapolate by the secant, at most 100 times the last step; where F_N falls as
+            # δ_N rises (tilted contacts, e_z < 0, push down), four times the step instead
+            falling = (r1 - r0) * (x1 - x0) <= 0.0
+            falls += falling
+            if abs(x1) >= limit or falls > MAX_FALLS:
+                raise _HeldSetFails
+            last = abs(x1 - x0)
+            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if not falling else math.nan
+            if not math.isfinite(guess):
+                guess = x1 + math.copysign(4.0 * last, -r1)
+            guess = x1 + math.copysign(min(abs(guess - x1), 100.0 * last), -r1)
+        x0, r0, x1 = x1, r1, guess
+    if abs(r_lo) < abs(r_hi):
+        return lo, r_lo + target
+    return hi, r_hi + target
+
+
+def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
+    """The grid points of the loaded contacts of an evaluation (sorted)."""
+    if record is None:
+        return np.zeros(0, dtype=np.int64)
+    return np.sort(record.point.astype(np.int64))
+
+
+def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[float, Held | None]:
+    """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], and the
+    contact set to hold through it (grid points and migration window; ``None``: eq. 9 free).
+
+    With the contact set held (eq. 9 not re-tested; a held contact whose effective approach
+    falls to ≤ 0 carries nothing) the coupled F_N(δ_N) is continuous, and the target is met
+    by :func:`_solve_continuous`. The set is first that of the loaded contacts at the previous
+    δ_N; the free model (eq. 9) is then evaluated at the solved δ_N, and while it loads
+    another set, that set is held and δ_N solved again from there (at most ``SET_ROUNDS``
+    sets). Where a held set cannot carry the target (F_N stops rising before it: its sphere
+    geometry, eqs. 4–8, holds for small overlaps only), the free bracketing of the
+    non-interacting path (:func:`.loadpath._solve_force`) finds δ_N, and where the free F_N
+    jumps across the target the set below the jump is held from there. The step is the held
+    set at the solved δ_N: the free model's step wherever the two load the same contacts,
+    F_N held to the target in any case. The springs' migration window (which depends on
+    Δδ_N) is held with the set and is part of its consistency.
+    """
+    scale = driver.geo.scale
+    seen: dict[float, ContactRecord | None] = {}
+
+    def trial(value: float, held: Held | None) -> float:
+        out, seen[value] = driver.evaluate(u, value, False, tol, held)
+        return out[0]
+
+    def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held]:
+        """δ_N and the held set of the held solves from δ_N = d."""
+        held = (cells, driver.window(u, d))
+        for round_ in range(SET_ROUNDS):
+            seen.clear()
+            d, _ = _solve_continuous(
+                target, lambda v, _h=held: trial(v, _h), d, trial(d, held), scale
+            )
+            loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
+            window = driver.window(u, d)
+            if window == held[1] and np.array_equal(loaded, _loaded(seen[d])):
+                break  # the free model's contacts: consistent
+            if round_ == SET_ROUNDS - 1 or loaded.size == 0:
+                break  # the target lies in a jump of the free model: F_N held
+            held = (loaded, window)
+        return d, held
+
+    f = trial(driver.d, None)
+    if abs(f - target) <= FORCE_RTOL * target or math.isinf(f):
+        return driver.d, None  # met, or beyond validity already (raised when committed)
+    held = _loaded(seen[driver.d])
+    if held.size:
+        try:
+            return hold_from(driver.d, held)
+        except _HeldSetFails:
+            pass
+    # no contact at the previous δ_N, or its set cannot carry the target
+    d, _, lo, hi = _solve_force(target, lambda v: (trial(v, None),), driver.d, scale)
+    held = _loaded(driver.evaluate(u, lo, False, tol)[1])
+    if lo == hi or held.size == 0:
+        return d, None
+    try:
+        return hold_from(lo, held)
+    except _HeldSetFails:
+        return d, None
 
 
 def run_interacting_path(
@@ -356,7 +569,14 @@ def run_interacting_path(
                 )
             )
 
+    period = driver.period
+
+    def check(k: int) -> None:
+        """The ParameterError of the normal path where step k left the model's validity."""
+        _check_finite(table[:, 2:7].T, k, k + 1, table[:, 0], period)
+
     store(0, *driver.evaluate(0.0, 0.0, True))
+    check(0)
     k = 0
     for seg in segments:
         u_a, d_a = driver.u, driver.d
@@ -369,14 +589,16 @@ def run_interacting_path(
             if force is None:
                 d = d_b if s == seg.steps else d_a + (d_b - d_a) * (s / seg.steps)
                 store(k, *driver.evaluate(u, d, True))
+                check(k)
                 continue
 
-            def trial(value: float, _u: float = u) -> tuple[float, ...]:
-                return driver.evaluate(_u, value, False, force_tol)[0]
-
-            d, _, _, _ = _solve_force(force, trial, driver.d, driver.geo.scale)
+            driver.beyond = None
+            d, held = _force_step(driver, u, force, force_tol)
             target[k] = force
-            store(k, *driver.evaluate(u, d, True, force_tol))
+            store(k, *driver.evaluate(u, d, True, force_tol, held))
+            if driver.beyond is not None and abs(table[k, 2] - force) > FORCE_HOLD_RTOL * force:
+                table[k, 0], table[k, 2] = driver.beyond, math.inf  # reachable only beyond
+            check(k)
     curves: dict[str, NDArray[Any]] = {
         "displacement": table[:, 0].copy(),
         "tangential_displacement": table[:, 1].copy(),
@@ -395,10 +617,11 @@ def run_interacting_path(
         if n_miss:
             warnings.warn(
                 f"F_N could not be held to {FORCE_HOLD_RTOL:g} at {n_miss} of {int(held.sum())} "
-                f"force-controlled steps (largest relative miss {float(miss.max()):.3g}): the "
-                "coupled F_N(δ_N) jumps where eq. 9 accepts or drops a contact and the target "
-                "fell inside a jump; the nearer side was taken (see normal_force − "
-                "normal_force_target)",
+                f"force-controlled steps (largest relative miss {float(miss.max()):.3g}): "
+                "F_N(δ_N) jumped across the target even with the step's contacts held (the "
+                "width loop stopping after a different number of updates, or the target "
+                "reachable only beyond the model's validity); the nearer side was taken (see "
+                "normal_force − normal_force_target)",
                 RuntimeWarning,
                 stacklevel=4,
             )
