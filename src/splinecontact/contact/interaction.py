@@ -158,12 +158,14 @@ def _accept(
     dx: float,
     out: tuple,
     held: NDArray[np.bool_] | None = None,
+    reach: float = 0.0,
 ) -> int:  # pragma: no cover - compiled
     """SAD's acceptance (Table 1, eqs. 7–10, eq. 9) of the first ``n_active`` candidates at
     displacement ``d`` [µm], down to the overlap ``delta_min`` [µm] where the surface has risen
     (the mesh displacement ``uplift`` [µm] of the previous step, cells of ``cell`` [µm]).
     ``columns`` = (gap0, κ^l, κ^u, m_x, m_z, n_x, n_z) of the candidates; the accepted ones go
     to ``out`` = (index, δ, e_x, e_z, R_eff, offset, centre height); returns their number.
+    A law acting at a gap (``reach`` [µm] > 0) keeps every candidate with δ > −reach.
     With ``held`` (a mask over the candidates) the masked candidates are taken whatever their
     overlap and centre (eq. 9 not tested; Table 1 at ``d``).
     """
@@ -200,7 +202,7 @@ def _accept(
         offset = (2.0 * dmx + delta * (k_u * n_x - k_l * m_x)) / (2.0 * y_norm)
         if held is None and not (-half_dx <= offset < half_dx):
             continue  # (most candidates: points beside their summit; tested before the rise)
-        if held is None and delta <= 0.0:
+        if held is None and delta <= 0.0 and delta <= -reach:
             # an open summit can only touch where the surface has risen towards it: the mesh
             # displacement of the previous step (smooth, so it underestimates the rise next to
             # loaded contacts only where the surface is pushed down anyway)
@@ -354,6 +356,7 @@ def interacting_loading(
     n_points: int,
     settings: InteractionSettings = InteractionSettings(),
     record_steps: NDArray[np.int64] | None = None,
+    law: Any = None,
     contact_set: NDArray[np.bool_] | None = None,
     mesh: Any = None,
     carry: dict[str, Any] | None = None,
@@ -377,6 +380,11 @@ def interacting_loading(
         Boundary conditions, tolerance and mesh.
     record_steps : array of int, optional
         Steps at which to keep the loaded contacts.
+    law : ContactLaw, optional
+        Local normal law, bound (:func:`splinecontact.contact.laws.bind_law`); ``None`` or
+        Hertz: eq. 10 and the linear solve; another law: the nonlinear contact-level solve of
+        :mod:`.interaction_laws` (the contacts' widths are then the law's own, whatever
+        ``settings.width``).
     contact_set : array of bool, optional
         A mask over the geometry's candidates: every step after the first takes the masked
         candidates as its contacts without the eq. 9 test (force control holds them fixed).
@@ -445,6 +453,13 @@ def interacting_loading(
     from .interaction_kernel import _MAX_INNER, mesh_cache, run_steps
 
     kernel: Any = run_steps  # compiled; its many arguments are checked by numba
+    lawful = law is not None and law.code != 0
+    law_args = (
+        (law.code, law.kernel_parameters(e_star), float(e_star)) if lawful else
+        (0, np.array([float(e_star)]), float(e_star)),
+        np.zeros((n, law.n_state)) if lawful else np.zeros((1, 0)),
+        float(law.reach) if lawful else 0.0,
+    )  # fmt: skip
 
     displacement = np.asarray(geometry.displacement, dtype=np.float64)
     n_steps = displacement.size
@@ -473,7 +488,7 @@ def interacting_loading(
     order = keep[np.argsort(raw_gap0[keep], kind="stable")]
     gap0 = np.ascontiguousarray(raw_gap0[order])
     columns = [np.ascontiguousarray(column[order]) for column in raw]
-    points = np.asarray(geometry.point)[order]
+    points = np.ascontiguousarray(np.asarray(geometry.point)[order], dtype=np.int64)
     height_lower = np.asarray(geometry.height_lower)[order]
     n_cand = gap0.size
     point_x = points.astype(np.float64) * dx
@@ -520,7 +535,7 @@ def interacting_loading(
             int(settings.width_iterations), not settings.periodic, mirror_axis, period,
             cells or 0, max_cells, slope is not None, dummy if slope is None else slope, dummy,
             sines, punch_weights, nodes, node_weights, floor, cache, state, field,
-            *per_contact, last_j, idx, *scratch, sums, counts, **held,
+            *per_contact, last_j, idx, *scratch, sums, counts, *law_args, points, **held,
         )  # fmt: skip
         if failed >= 0:
             raise NoConvergenceError(
@@ -538,7 +553,7 @@ def interacting_loading(
         step = stop - 1
         if record[step] and count > 0:
             j = idx[:count]
-            on = out_load[:count] > 0.0
+            on = out_load[:count] != 0.0 if lawful else out_load[:count] > 0.0
             chosen = j[on]
             contacts.append(
                 ContactRecord(
@@ -546,7 +561,9 @@ def interacting_loading(
                     point=points[chosen],
                     x=out_x[:count][on].copy(),
                     z=height_lower[chosen] + offset_z[:count][on],
-                    overlap=out_load[:count][on] / (_QUARTER_PI * e_star),
+                    overlap=_delta[:count][on].copy()
+                    if lawful
+                    else out_load[:count][on] / (_QUARTER_PI * e_star),
                     effective_radius=reff[:count][on].copy(),
                     normal_force=out_load[:count][on].copy(),
                     tangential_force=out_ft[:count][on].copy(),

@@ -37,6 +37,22 @@ from .halfplane import (
     mesh_kernel,
 )
 from .interaction import UPLIFT_FACTOR, _accept
+from .interaction_laws import (
+    _FD_STEP,
+    _HALVINGS,
+    _JUMP_AFTER,
+    _MAX_NEWTON,
+    LAW_TOL_FLOOR,
+    commit_rows,
+    law_bound,
+    law_evaluate,
+    law_widths,
+    newton_rhs,
+    newton_scale,
+    release_dropped,
+    release_unstable,
+)
+from .laws import HERTZ
 from .punch import _profile_widths
 
 __all__ = ["mesh_cache", "run_steps"]
@@ -232,6 +248,100 @@ def _pk_solve(
     return p, -1, residual, phi
 
 
+@numba.njit(cache=True)
+def _law_solve(
+    cache,
+    base: int,
+    delta: NDArray[np.float64],
+    load: NDArray[np.float64],
+    tol: float,
+    ez: NDArray[np.float64],
+    a: NDArray[np.float64],
+    period: float,
+    c: float,
+    op: tuple,
+    law: tuple,
+    rows: NDArray[np.float64],
+    r_eff: NDArray[np.float64],
+    held: NDArray[np.bool_],
+) -> tuple:  # pragma: no cover - compiled
+    """P_i = f_i(δ − e_z w(P)) for a law other than Hertz (:mod:`.interaction_laws`): Newton
+    steps, each a constrained CG solve (:func:`_pk_solve`, contacts scaled by √(k̃/k_H)).
+
+    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows,
+    ``held`` the contacts the jump rule holds apart for the step (updated).
+    Returns (the law's forces at the converged δ^eff, CG iterations or −1, residual, mesh
+    displacement, δ^eff [µm], the law's widths √2·b [µm]).
+    """
+    code, params, e_star = law
+    n = delta.size
+    k_h = _QUARTER_PI * e_star
+    reserve = law_bound(code, params, r_eff)
+    adhesive = reserve.min() < 0.0
+    # approach scale: the largest overlap, or the pull-off's approach (δ ≈ 0 at touching)
+    scale = max(np.abs(delta).max(), 0.25 * np.abs(reserve).max() / k_h, 1e-300)
+    fd = _FD_STEP * scale
+    lower = np.zeros(n)
+    coupled_lower = np.zeros(n)
+    pos, owner, ez_src, h, start, src, coef, dense = op
+    p = load.copy()
+    force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
+    u, phi = _operate(cache, base, p, 0.0, ez, op)
+    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+    total = 0
+    since = 0
+    last = np.inf
+    for _ in range(_MAX_NEWTON):
+        misfit = p - force
+        residual = np.abs(misfit).max() / (k_h * scale)
+        # converged at tol, or stalled (at roundoff or the laws' own root accuracy) below the
+        # floor
+        if residual <= tol or (residual <= LAW_TOL_FLOOR and residual > 0.5 * last):
+            return force.copy(), total, residual, phi, delta - u, width
+        last = residual
+        if since >= _JUMP_AFTER:
+            if release_unstable(code, rows, p, force, stiffness, ez, a, period, c, held) == 0:
+                break
+            since = 0
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+            continue
+        if adhesive:
+            # a bound below the loads of the step, never far below them (the shift by the
+            # bound sets the scale of the linear solve): twice the most tensile of P and f,
+            # and a quarter of the pull-off bound
+            lower = 2.0 * np.minimum(np.minimum(p, force), 0.0) + 0.25 * reserve
+            coupled_lower, _ = _operate(cache, base, lower, 0.0, ez, op)
+        s = newton_scale(stiffness, e_star)
+        rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
+        # contact i scaled by s_i: sources by s of their contact, the matrix's rows likewise
+        # (Kᵀ[j, i] carries source j's e_z), the gathering by ez·s below
+        scaled_dense = dense * np.expand_dims(s, 1) if dense.shape[0] else dense
+        scaled = (pos, owner, ez_src * s[owner], h, start, src, coef, scaled_dense)
+        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12), its
+        # tolerance relative to its right-hand side (a solve stopped at its iteration limit
+        # still improves P: the residual is the exact law's)
+        wanted = max(min(0.1 * residual, tol), 1e-12) * scale
+        inner = min(max(wanted / max(np.abs(rhs).max(), 1e-300), 1e-14), 0.1)
+        q, iterations, _, _ = _pk_solve(
+            cache, base, rhs, np.maximum(p - lower, 0.0) / s, inner, ez * s, a, period, c, scaled
+        )
+        total += iterations if iterations >= 0 else _MAX_INNER
+        step = lower + s * q - p
+        merit = np.dot(misfit, misfit)
+        start_p = p
+        for halving in range(_HALVINGS + 2):
+            # the full step again when no halving lowers ‖P − f‖ (a law's jump between the
+            # iterates: the merit is not continuous there)
+            lam = 1.0 if halving > _HALVINGS else 0.5**halving
+            p = start_p + lam * step
+            u, phi = _operate(cache, base, p, 0.0, ez, op)
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+            if np.dot(p - force, p - force) < merit or halving > _HALVINGS:
+                break
+        since += 1
+    return force.copy(), -1, np.abs(p - force).max() / (k_h * scale), phi, delta - u, width
+
+
 @numba.njit(cache=True, nogil=True)
 def _hertz_width(
     load: NDArray[np.float64], reff: NDArray[np.float64], e_star: float, floor: float
@@ -324,6 +434,10 @@ def run_steps(
     out_ft: NDArray[np.float64],
     curves: NDArray[np.float64],
     counts: NDArray[np.int64],
+    law: tuple,
+    law_state: NDArray[np.float64],
+    law_reach: float,
+    cand_point: NDArray[np.int64],
     hold: NDArray[np.bool_] | None = None,
 ) -> tuple[int, int, float, int]:  # pragma: no cover - compiled
     """Steps ``first`` … ``stop`` − 1 of the interacting loading (SAD eqs. 7–14, coupled).
@@ -337,6 +451,9 @@ def run_steps(
     (count of the last step's accepted contacts, step that failed to converge or −1, its
     residual, the step at which ``stop_force`` was reached or −1). ``curvature`` is not read
     (the punch widths differentiate the interpolated ``slope``); it keeps the argument list.
+    ``law`` = (code, kernel parameters, E*): a law other than Hertz takes the nonlinear solve of
+    :mod:`.interaction_laws` (its history ``law_state`` per lower grid point, ``cand_point`` the
+    candidates' grid points, its reach [µm]); Hertz takes the linear one, unchanged.
     ``hold`` (a mask over the candidates, gap order): every step after step 0 takes the masked
     candidates as its contacts, eq. 9 not tested (the unilateral condition still unloads those
     whose effective approach is ≤ 0), so that the loads are continuous in δ_N.
@@ -351,18 +468,22 @@ def run_steps(
         last_n = int(state[4])
         d = displacement[step]
         increment = d - displacement[step - 1] if step > 0 else 0.0
-        threshold = d + margin
+        lawful = law[0] != HERTZ
+        threshold = d + max(margin, law_reach)
         if threshold > reach:
             counts[4, step] = 1
         n_active = np.searchsorted(closing_gap, threshold, side="right")
         if hold is not None and step > 0:  # the held set, whatever eq. 9 says
             n_active = closing_gap.size
         count = _accept(
-            d, -margin, field[:field_n], field_cell, point_x, n_active,
+            d, -max(margin, law_reach), field[:field_n], field_cell, point_x, n_active,
             (gap0, kl, ku, mx, mz, nx, nz), dx, (idx, delta, ex, ez, reff, offset, offset_z),
             hold if step > 0 else None,
+            law_reach,
         )  # fmt: skip
         j = idx[:count].copy()
+        if lawful:
+            release_dropped(law[0], law_state, cand_point, last_j[:last_n].copy(), j)
         previous = np.empty(count)
         older = np.empty(count)
         keep_t = np.empty(count)
@@ -405,7 +526,11 @@ def run_steps(
         dl = delta[:count].copy()
         e_z = ez[:count].copy()
         r_eff = reff[:count].copy()
-        load = np.maximum(guess, 0.0)
+        load = guess.copy() if lawful else np.maximum(guess, 0.0)
+        rows = law_state[cand_point[j]] if lawful else law_state[:0]
+        widths = np.zeros(count)
+        effective = np.zeros(count)
+        held = np.zeros(count, dtype=np.bool_)
         a_fresh = _hertz_width(_QUARTER_PI * e_star * np.maximum(dl, 0.0), r_eff, e_star, floor)
         a = np.empty(count)
         cc = np.empty(count)
@@ -459,15 +584,22 @@ def run_steps(
                 )  # fmt: skip
                 dense = np.zeros((0, 0))
             op = (pos, owner, ez_src, h_mesh, start, src, coef, dense)
-            load, iterations, residual, phi = _pk_solve(
-                cache, base, dl, load, tol, e_z, a, period, c0, op
-            )
+            if lawful:
+                load, iterations, residual, phi, effective, widths = _law_solve(
+                    cache, base, dl, load, tol, e_z, a, period, c0, op, law, rows, r_eff, held
+                )
+            else:
+                load, iterations, residual, phi = _pk_solve(
+                    cache, base, dl, load, tol, e_z, a, period, c0, op
+                )
             if iterations < 0:
                 return count, step, residual, -1
             total += iterations
             a_new = _hertz_width(load, r_eff, e_star, floor)
             c_new = np.zeros(count)
-            if profile_width:
+            if lawful:
+                a_new = law_widths(widths, load, r_eff, e_star, floor)
+            elif profile_width:
                 src_q = np.empty(sources)
                 for s in range(sources):
                     src_q[s] = ez_src[s] * load[owner[s]]
@@ -479,7 +611,7 @@ def run_steps(
             done = True
             anyload = False
             for k in range(count):
-                if load[k] > 0.0:
+                if load[k] > 0.0 or (lawful and load[k] != 0.0):
                     anyload = True
                 if abs(a_new[k] - a[k]) + abs(c_new[k] - cc[k]) > width_tol * max(a[k], floor):
                     done = False
@@ -489,6 +621,10 @@ def run_steps(
                 break
         counts[3, step] = total
         on = load > 0.0
+        if lawful:
+            on = (load != 0.0) | (widths > 0.0)
+            commit_rows(law[0], law[1], effective, r_eff, rows, law_state, cand_point[j], held)
+            delta[:count] = effective  # the contacts record δ^eff
         for k in range(count):
             width_all[j[k]] = a[k] if on[k] else 0.0
             shift_all[j[k]] = cc[k] if on[k] else 0.0
@@ -509,6 +645,7 @@ def run_steps(
         f_tan = 0.0
         area = 0.0
         n_on = 0
+        n_in = 0
         n_tilted = 0
         lo = np.empty(count)
         hi = np.empty(count)
@@ -516,7 +653,7 @@ def run_steps(
             f_n = load[k]
             e_x = ex[k]
             f_t = keep_t[k] - g_star * increment * e_x if previous[k] > 0.0 else 0.0
-            cap = mu0 * f_n
+            cap = mu0 * max(f_n, 0.0)  # an adhesive (tensile) contact carries no friction
             f_t = min(max(f_t, -cap), cap)
             if not on[k]:
                 f_t = 0.0
@@ -530,9 +667,16 @@ def run_steps(
                 fn_t += -f_t * e_x
                 f_norm += f_n * e_z[k] + -f_t * e_x
                 f_tan += f_n * e_x + f_t * e_z[k]
-                area += math.sqrt(f_n / (_QUARTER_PI * e_star) * r_eff[k])
-                lo[n_on] = min(max(x[k] - a[k], 0.0), length)
-                hi[n_on] = min(max(x[k] + a[k], 0.0), length)
+                half = a[k]
+                if lawful:
+                    area += widths[k]
+                    half = widths[k] / math.sqrt(2.0)
+                else:
+                    area += math.sqrt(f_n / (_QUARTER_PI * e_star) * r_eff[k])
+                if half > 0.0:
+                    lo[n_in] = min(max(x[k] - half, 0.0), length)
+                    hi[n_in] = min(max(x[k] + half, 0.0), length)
+                    n_in += 1
                 n_on += 1
                 if e_z[k] < 0.0:
                     n_tilted += 1
@@ -541,7 +685,7 @@ def run_steps(
         curves[2, step] = area
         curves[3, step] = fn_n
         curves[4, step] = fn_t
-        union, pieces = _union_length(lo[:n_on], hi[:n_on])
+        union, pieces = _union_length(lo[:n_in], hi[:n_in])
         curves[5, step] = union
         counts[0, step] = n_on
         counts[1, step] = n_tilted

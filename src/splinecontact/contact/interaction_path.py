@@ -17,12 +17,12 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterable
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import LoadPathError
+from ..errors import LoadPathError, ParameterError
 from ..profile import Profile
 from ..results import SimulationResult
 from ..spline import SplineFit
@@ -73,14 +73,22 @@ def simulate_interacting_path(
     mu0: float,
     alpha: float,
     x0: float,
+    law: Any = None,
 ) -> SimulationResult:
-    """``simulate(..., path=..., interaction=True)`` (units as there)."""
+    """``simulate(..., path=..., interaction=True)`` (units as there; ``law`` a bound contact
+    law, normal paths only with a law other than Hertz)."""
     from .simulation import _record_steps, build_result, spline_fits
 
     segments = path_segments(path, steps, final_displacement)
     check_bodies(lower, upper)
     fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
     if any(_moves_or_holds(s) for s in segments):
+        if law is not None and law.code != 0:
+            raise ParameterError(
+                f"interaction=True with the law {type(law).__name__} follows normal, "
+                "displacement-controlled paths only (loading, unloading, reloading); this path "
+                "slides or holds a normal force — use the Hertz law, or interaction=False"
+            )
         return _sliding_result(
             lower, upper, segments, fits, settings, record_contacts, e_star=e_star,
             g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
@@ -96,12 +104,16 @@ def simulate_interacting_path(
     geometry = dataclasses.replace(geometry, displacement=displacement)
     curves, contacts = interacting_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
-        settings=settings, record_steps=record_steps,
+        settings=settings, record_steps=record_steps, law=law,
     )  # fmt: skip
+    extra = _path_parameters(segments, settings)
+    if law is not None and law.code != 0:
+        from .laws import law_record
+
+        extra.update(law_record(law))
     return build_result(
         lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
-        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
-        extra=_path_parameters(segments, settings),
+        e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, extra=extra,
     )  # fmt: skip
 
 

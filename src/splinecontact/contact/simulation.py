@@ -158,7 +158,8 @@ def simulate(
         interact through the elastic half-plane (:mod:`splinecontact.contact.interaction`,
         ``docs/accuracy.md``); the curves gain ``coalesced_contact_length``,
         ``n_contact_patches``, ``interaction_iterations`` and ``reach_exceeded``. Any
-        ``path`` (sliding and force control: :mod:`.interaction_slide`); Hertz law only.
+        ``path`` with the Hertz law (sliding and force control: :mod:`.interaction_slide`);
+        every other law on normal, displacement-controlled paths (:mod:`.interaction_laws`).
 
     Returns
     -------
@@ -214,7 +215,7 @@ def simulate(
         return simulate_interacting_path(
             lower, upper, path, settings, record_contacts, steps=steps,
             final_displacement=final_displacement, e_star=e_star, g_star=g_star, mu0=mu0,
-            alpha=alpha, x0=x0,
+            alpha=alpha, x0=x0, law=law,
         )  # fmt: skip
     if path is not None:
         from .loadpath import simulate_path
@@ -239,7 +240,7 @@ def simulate(
             lower, upper, (fit_l, fit_u), settings, record_steps, steps=steps,
             final_displacement=final_displacement,
             final_displacement_factor=final_displacement_factor, e_star=e_star, g_star=g_star,
-            mu0=mu0, alpha=alpha, x0=x0, diagnostics=diagnostics,
+            mu0=mu0, alpha=alpha, x0=x0, diagnostics=diagnostics, law=law,
         )  # fmt: skip
     geometry = contact_geometry(
         lower, upper, steps=steps, final_displacement=final_displacement,
@@ -314,11 +315,6 @@ def _interaction_settings(
         raise ParameterError(
             f"interaction = {interaction!r}; give True, False or an InteractionSettings"
         )
-    if not isinstance(law, Hertz):
-        raise ParameterError(
-            f"interaction=True couples Hertz contacts (eq. 10); the law {type(law).__name__} "
-            "is not supported with interacting contacts yet — use the default law"
-        )
     return settings
 
 
@@ -338,6 +334,7 @@ def _simulate_interacting(
     alpha: float,
     x0: float,
     diagnostics: bool,
+    law: ContactLaw,
 ) -> SimulationResult:
     """``simulate`` with contacts coupled through the half-plane (units as there)."""
     from .interaction import extended_geometry, interacting_loading
@@ -349,7 +346,7 @@ def _simulate_interacting(
     )  # fmt: skip
     curves, contacts = interacting_loading(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
-        settings=settings, record_steps=record_steps,
+        settings=settings, record_steps=record_steps, law=law,
     )  # fmt: skip
     if diagnostics:
         from ..diagnostics import warn_simulation
@@ -360,6 +357,7 @@ def _simulate_interacting(
         "interaction_boundary": "periodic" if settings.periodic else "symmetry walls",
         "interaction_tol": settings.tol,
         "interaction_width": settings.width,
+        **({} if isinstance(law, Hertz) else law_record(law)),
     }
     return build_result(
         lower, upper, fits, curves, contacts, steps=int(curves["displacement"].size) - 1,
