@@ -119,7 +119,8 @@ def _scratch(capacity: int) -> _k.Scratch:
         cl_nx=np.empty(capacity),
         cl_nz=np.empty(capacity),
         cl_keep=np.empty(capacity, dtype=np.bool_),
-        cl_flag=np.empty(capacity, dtype=np.uint8),
+        # a whole number of 8-byte words (the sliding step reads its flags by the word)
+        cl_flag=np.empty(capacity + (-capacity) % 8, dtype=np.uint8),
     )
 
 
