@@ -28,6 +28,7 @@ __all__ = [
     "sliding_flags",
     "sphere_ready",
     "step_runs",
+    "upper_maxima",
 ]
 
 
@@ -89,11 +90,54 @@ def interval_envelope(
     n = f.size
     out = np.empty(n - 1)
     for k in range(n - 1):
-        hi = f[k] if f[k] > f[k + 1] else f[k + 1]
-        gk = abs(gamma[k])
-        gk1 = abs(gamma[k + 1])
-        out[k] = hi + 0.125 * (gk if gk > gk1 else gk1)
+        out[k] = _interval_top(f[k], f[k + 1], gamma[k], gamma[k + 1])
     return out
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _interval_top(f0: float, f1: float, g0: float, g1: float) -> float:  # pragma: no cover
+    """:func:`interval_envelope` of one interval (knot values f0, f1, γ values g0, g1)."""
+    hi = f0 if f0 > f1 else f1
+    g0 = abs(g0)
+    g1 = abs(g1)
+    return hi + 0.125 * (g0 if g0 > g1 else g1)
+
+
+@numba.njit(cache=True, nogil=True)
+def upper_maxima(
+    f_l: NDArray[np.float64], f_u: NDArray[np.float64], curv_u: NDArray[np.float64], dx: float, sub: int
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float, float
+]:  # pragma: no cover - compiled
+    """One pass over a rough pair on one grid: the upper spline's γ = f″·dx², its
+    :func:`interval_envelope`, the :func:`block_max` of f^l and of the envelope over ``sub``
+    points, max(f^u + f^l) and max|f^l| + max|f^u| (the same values as those functions and
+    numpy's, which they replace: each is a maximum or one product per point) [µm]."""
+    n = f_l.size
+    gamma = np.empty(n)
+    envelope = np.empty(n - 1)
+    f_l_sub = np.empty((n + sub - 1) // sub)
+    env_sub = np.empty((n - 1 + sub - 1) // sub)
+    top = -np.inf
+    abs_l = 0.0
+    abs_u = 0.0
+    for i in range(n):
+        gamma[i] = curv_u[i] * dx * dx
+        v = f_u[i] + f_l[i]
+        top = v if v > top else top
+        a = abs(f_l[i])
+        abs_l = a if a > abs_l else abs_l
+        a = abs(f_u[i])
+        abs_u = a if a > abs_u else abs_u
+        if i % sub == 0 or f_l[i] > f_l_sub[i // sub]:
+            f_l_sub[i // sub] = f_l[i]
+        if i > 0:
+            k = i - 1
+            e = _interval_top(f_u[k], f_u[i], gamma[k], gamma[i])
+            envelope[k] = e
+            if k % sub == 0 or e > env_sub[k // sub]:
+                env_sub[k // sub] = e
+    return gamma, envelope, f_l_sub, env_sub, top, abs_l + abs_u
 
 
 @numba.njit(cache=True, nogil=True)

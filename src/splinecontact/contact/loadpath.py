@@ -32,7 +32,7 @@ from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
-from ._culling import SPHERE_BLOCK
+from ._culling import SPHERE_BLOCK, upper_maxima
 from ._path_run import run_steps
 from .geometry import contact_geometry
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
@@ -70,11 +70,12 @@ class _State:
     def __init__(self, n: int, law: ContactLaw, e_star: float, g_star: float, mu0: float) -> None:
         self.springs = _k.Springs(
             acc=np.zeros(n, dtype=np.bool_),
-            ft=np.zeros(n),
-            xc=np.zeros(n),
-            ex=np.zeros(n),
-            ez=np.zeros(n),
-            cells=np.zeros(n, dtype=np.int64),
+            # by slot: only the n_committed first are read (no zeroing of 4n words)
+            ft=np.empty(n),
+            xc=np.empty(n),
+            ex=np.empty(n),
+            ez=np.empty(n),
+            cells=np.empty(n, dtype=np.int64),
             n_committed=np.zeros(1, dtype=np.int64),
             claimed=np.zeros(n, dtype=np.bool_),
         )
@@ -160,17 +161,20 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
             placeholder.setflags(write=False)
         placement = float(f_l.max())
         envelope = np.zeros(1)
+        scale = float(np.abs(f_l).max()) + dx
+        f_l_sub = _k.block_max(f_l, _SUB)
+        envelope_sub = _k.block_max(envelope, _SUB)
     else:
         f_u = np.ascontiguousarray(fit_u.f, dtype=np.float64)
-        gamma_u = np.ascontiguousarray(fit_u.second_derivative * dx * dx, dtype=np.float64)
         slope_u = np.ascontiguousarray(fit_u.slope, dtype=np.float64)
         curv_u = np.ascontiguousarray(fit_u.second_derivative, dtype=np.float64)
-        placement = float((f_u + f_l).max())
-        envelope = _k.interval_envelope(f_u, gamma_u)
-    scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
-    # maxima of sub-blocks, then of blocks of _BLOCK // _SUB sub-blocks (the same values)
-    f_l_sub = _k.block_max(f_l, _SUB)
-    envelope_sub = _k.block_max(envelope, _SUB)
+        # γ = f″·dx², the interval envelope, the sub-block maxima, max(f^u + f^l) and the scale
+        gamma_u, envelope, f_l_sub, envelope_sub, top, abs_sum = upper_maxima(
+            f_l, f_u, curv_u, dx, _SUB
+        )
+        placement = float(top)
+        scale = float(abs_sum) + dx
+    # maxima of blocks of _BLOCK // _SUB sub-blocks (the same values as over the points)
     f_l_block = _k.block_max(f_l_sub, _BLOCK // _SUB)
     envelope_block = _k.block_max(envelope_sub, _BLOCK // _SUB)
     surf = _k.Surfaces(
