@@ -103,41 +103,47 @@ def _interval_top(f0: float, f1: float, g0: float, g1: float) -> float:  # pragm
     return hi + 0.125 * (g0 if g0 > g1 else g1)
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath={"nnan", "ninf", "nsz"})
 def upper_maxima(
     f_l: NDArray[np.float64], f_u: NDArray[np.float64], curv_u: NDArray[np.float64], dx: float, sub: int
 ) -> tuple[
     NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float, float
 ]:  # pragma: no cover - compiled
-    """One pass over a rough pair on one grid: the upper spline's γ = f″·dx², its
+    """For a rough pair on one grid: the upper spline's γ = f″·dx², its
     :func:`interval_envelope`, the :func:`block_max` of f^l and of the envelope over ``sub``
-    points, max(f^u + f^l) and max|f^l| + max|f^u| (the same values as those functions and
-    numpy's, which they replace: each is a maximum or one product per point) [µm]."""
+    points, max(f^u + f^l) and max|f^l| + max|f^u| [µm].
+
+    The same values as those functions and numpy's (each is one product per point or a
+    maximum, exact in any order; the flags let the maxima run on vector units: finite values).
+    """
     n = f_l.size
     gamma = np.empty(n)
+    for i in range(n):
+        gamma[i] = curv_u[i] * dx * dx
     envelope = np.empty(n - 1)
-    f_l_sub = np.empty((n + sub - 1) // sub)
-    env_sub = np.empty((n - 1 + sub - 1) // sub)
+    for k in range(n - 1):
+        envelope[k] = _interval_top(f_u[k], f_u[k + 1], gamma[k], gamma[k + 1])
     top = -np.inf
     abs_l = 0.0
     abs_u = 0.0
     for i in range(n):
-        gamma[i] = curv_u[i] * dx * dx
-        v = f_u[i] + f_l[i]
-        top = v if v > top else top
-        a = abs(f_l[i])
-        abs_l = a if a > abs_l else abs_l
-        a = abs(f_u[i])
-        abs_u = a if a > abs_u else abs_u
-        if i % sub == 0 or f_l[i] > f_l_sub[i // sub]:
-            f_l_sub[i // sub] = f_l[i]
-        if i > 0:
-            k = i - 1
-            e = _interval_top(f_u[k], f_u[i], gamma[k], gamma[i])
-            envelope[k] = e
-            if k % sub == 0 or e > env_sub[k // sub]:
-                env_sub[k // sub] = e
-    return gamma, envelope, f_l_sub, env_sub, top, abs_l + abs_u
+        top = max(top, f_u[i] + f_l[i])
+        abs_l = max(abs_l, abs(f_l[i]))
+        abs_u = max(abs_u, abs(f_u[i]))
+    return gamma, envelope, _sub_max(f_l, sub), _sub_max(envelope, sub), top, abs_l + abs_u
+
+
+@numba.njit(cache=True, nogil=True, inline="always", fastmath={"nnan", "ninf", "nsz"})
+def _sub_max(values: NDArray[np.float64], sub: int) -> NDArray[np.float64]:  # pragma: no cover
+    """:func:`block_max` of finite values (on vector units)."""
+    n = values.size
+    out = np.empty((n + sub - 1) // sub)
+    for q in range(out.size):
+        hi = values[q * sub]
+        for i in range(q * sub + 1, min(n, q * sub + sub)):
+            hi = max(hi, values[i])
+        out[q] = hi
+    return out
 
 
 @numba.njit(cache=True, nogil=True)

@@ -146,7 +146,7 @@ def run_steps(
     built_until = -1
     cand = buf_idx[:0]
     bound = buf_bound[:0]
-    pre = np.empty((0, 6))
+    pre = np.empty((6, 0))
     n_sub = cull.f_l_sub.size if sliding else 0
     blocks = np.empty(cull.f_l_block.size if sliding else 0, dtype=np.int64)
     run_start = np.empty(n_sub, dtype=np.int64)
