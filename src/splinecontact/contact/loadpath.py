@@ -34,7 +34,7 @@ from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
 from ._culling import SPHERE_BLOCK, upper_maxima
 from ._path_run import run_steps
-from .geometry import contact_geometry
+from .geometry import _place_bodies, displacement_steps
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
 
@@ -624,17 +624,16 @@ def simulate_path(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
     fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
-    geometry = contact_geometry(
-        lower, upper, steps=1, final_displacement=max(extent, lower.dx),
-        final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
-    )  # fmt: skip
+    displacement_steps(max(extent, lower.dx), 0.2, lower.peak_to_valley, 1)  # its limits
+    # the mean gap at δ_N = 0 (that of contact_geometry; no candidates are needed: final −∞)
+    mean_gap0 = float(_place_bodies(fit_l.f, fit_l.f if flat else fit_u.f, flat, -np.inf)[2])
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
         lower, upper, segments, fits=(fit_l, fit_u), e_star=e_star, g_star=g_star, mu0=mu0,
         alpha=alpha, x0=x0, record_steps=record_steps, law=law,
     )  # fmt: skip
-    curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
+    curves["mean_separation"] = mean_gap0 - curves["displacement"]
     path_record = [
         {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
          "steps": s.steps}
