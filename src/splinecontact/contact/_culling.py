@@ -565,10 +565,11 @@ def step_runs(
 
     Within the given ``blocks`` (which must hold every block that can touch at this shift,
     :func:`candidate_blocks`), each sub-block of ``cull.sub`` points i0 … i1 is kept when the
-    maximum of f^l over it plus the largest interval envelope on the knot intervals
+    maximum of f^l over it plus the largest interval envelope on (at least) the knot intervals
     ⌊i0 − shift⌋ − 1 … ⌊i1 − shift⌋ + 1 (those its points evaluate, with one interval to spare
-    for rounding) is ≥ ``threshold``; kept neighbours are merged. Returns the number of runs
-    (start point, length) written.
+    for rounding) is ≥ ``threshold``; kept neighbours are merged. The intervals are taken by
+    whole sub-blocks of the envelope, the same offset for every sub-block. Returns the number
+    of runs (start point, length) written.
     """
     n = surf.f_l.size
     f_l_sub = cull.f_l_sub
@@ -576,30 +577,32 @@ def step_runs(
     sub = cull.sub
     per_block = cull.block // sub
     margin = cull.margin
-    m = cull.envelope.size
     n_sub = f_l_sub.size
+    top = envelope_sub.size - 1
+    # ⌊i − shift⌋ (as rounded) is i + c or i + c + 1: sub-block q's points (16q … 16q + 15)
+    # see the knot intervals 16q + c − 1 … 16q + 15 + c + 2, in the envelope's sub-blocks
+    # q + a … q + b whatever q (a window at least as wide as the one stated above)
+    c = math.floor(-shift)
+    a = (c - 1) // sub
+    b = (sub + 1 + c) // sub
     n_runs = 0
     end = -1  # one past the last kept point
-    for b in blocks:
-        for q in range(b * per_block, min(n_sub, (b + 1) * per_block)):
+    for blk in blocks:
+        for q in range(blk * per_block, min(n_sub, (blk + 1) * per_block)):
+            lo = max(0, q + a)
+            hi = min(top, q + b)
+            if hi < lo or f_l_sub[q] + _window_max(envelope_sub, lo, hi) + margin < threshold:
+                continue
             i0 = q * sub
-            i1 = min(n, i0 + sub) - 1
-            k_lo = max(0, math.floor(i0 - shift) - 1)
-            k_hi = min(m - 1, math.floor(i1 - shift) + 1)
-            if k_hi < k_lo:
-                continue
-            if (
-                f_l_sub[q] + _window_max(envelope_sub, k_lo // sub, k_hi // sub) + margin
-                < threshold
-            ):
-                continue
             if i0 == end:
-                run_len[n_runs - 1] += i1 + 1 - i0
+                run_len[n_runs - 1] += sub
             else:
                 run_start[n_runs] = i0
-                run_len[n_runs] = i1 + 1 - i0
+                run_len[n_runs] = sub
                 n_runs += 1
-            end = i1 + 1
+            end = i0 + sub
+    if end > n:  # the last sub-block is short
+        run_len[n_runs - 1] -= end - n
     return n_runs
 
 
