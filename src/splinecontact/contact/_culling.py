@@ -32,9 +32,6 @@ __all__ = [
 ]
 
 
-#: 1/6, rounded (the filter's slope, :func:`_run_flags`).
-_SIXTH = 1.0 / 6.0
-
 #: Points per block of the lazily evaluated lower spheres (a power of two).
 SPHERE_BLOCK = 64
 _SPHERE_SHIFT = 6
@@ -323,20 +320,17 @@ def _may_touch(
 ) -> bool:  # pragma: no cover - compiled
     """The conservative filter of :func:`.path_kernel._filter_closed` for one point.
 
-    The tests of :func:`.geometry.sphere_contact` multiplied through by their positive
-    denominators, so that a point costs one division and two square roots (the vector units'
-    slowest operations) instead of four divisions more: with u = 1/√(1 + s1²),
-    m = (s1·u, u), κ^u = −s2·u³ (clamped), and D = |Y| + κ^l + κ^u > 0 (Table 1, |Y| > 0),
-    δ·D = N (the numerator of δ), so δ > δ_min ⇔ N > δ_min·D, and the eq. 9 offset
-    (2(m_x − n_x) + δ·c)/(2|Y|) ⇔ the test |2(m_x − n_x)·D + N·c| ≤ lim·|Y|·D (lim = dx,
-    widened by a relative 10⁻⁶; the overlap test by 10⁻⁹ of its scale, both far above the
-    rounding of either form).
+    The values of :func:`.geometry.sphere_contact` (and of the kernel's upper sphere),
+    operation for operation, so that for the same g, s1, s2 the overlap δ and the eq. 9
+    numerator are the same to the bit; only the last division is replaced by a widened
+    comparison (eq. 9 by a relative 10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale). Dividing
+    or rounding differently would not be conservative where the curvatures nearly vanish
+    (``tests/test_path_filter.py``).
     """
     norm_u = math.sqrt(1.0 + s1 * s1)
-    inv_u = 1.0 / norm_u
-    k_u = min(max(-s2 * (inv_u * inv_u * inv_u), -kappa_max), kappa_max)
-    m_x = s1 * inv_u
-    m_z = inv_u
+    k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
+    m_x = s1 / norm_u
+    m_z = 1.0 / norm_u
     k_sum = k_l + k_u
     k_prod = k_u * k_l
     y_x = k_l * m_x + k_u * n_x
@@ -345,13 +339,13 @@ def _may_touch(
     dmx = m_x - n_x
     dmz = m_z - n_z
     num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
-    den = y_norm + k_sum
-    off = 2.0 * dmx * den + num * (k_u * n_x - k_l * m_x)
+    delta = num / (y_norm + k_sum)
+    off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
     return (
         (k_sum > 0.0)
         & (y_norm > 0.0)
-        & (num > min_delta * den - 1e-9 * (abs(num) + (abs(min_delta) + abs(g)) * den))
-        & (abs(off) <= lim * y_norm * den)
+        & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
+        & (abs(off) <= lim * y_norm)
     )
 
 
@@ -396,8 +390,7 @@ def _run_flags(
         g0 = gamma_u[p]
         g1 = gamma_u[p + 1]
         h_u = w * fk + t * fk1 + (g0 * (w * w * w - w) + g1 * (t * t * t - t)) / 6.0
-        # (the slope feeds the filter alone: × 1/6, not ÷ 6, which costs a vector division)
-        s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) * _SIXTH) * inv_dx
+        s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
         s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
         g = (placement - (h_u + f_l[p])) - d
         closed = same & (not g > reach)
