@@ -28,7 +28,6 @@ __all__ = [
     "sliding_flags",
     "sphere_ready",
     "step_runs",
-    "upper_maxima",
 ]
 
 
@@ -98,49 +97,6 @@ def _interval_top(f0: float, f1: float, g0: float, g1: float) -> float:  # pragm
     g0 = abs(g0)
     g1 = abs(g1)
     return hi + 0.125 * (g0 if g0 > g1 else g1)
-
-
-@numba.njit(cache=True, nogil=True, fastmath={"nnan", "ninf", "nsz"})
-def upper_maxima(
-    f_l: NDArray[np.float64], f_u: NDArray[np.float64], curv_u: NDArray[np.float64], dx: float, sub: int
-) -> tuple[
-    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float, float
-]:  # pragma: no cover - compiled
-    """For a rough pair on one grid: the upper spline's γ = f″·dx², its
-    :func:`interval_envelope`, the :func:`block_max` of f^l and of the envelope over ``sub``
-    points, max(f^u + f^l) and max|f^l| + max|f^u| [µm].
-
-    The same values as those functions and numpy's (each is one product per point or a
-    maximum, exact in any order; the flags let the maxima run on vector units: finite values).
-    """
-    n = f_l.size
-    gamma = np.empty(n)
-    for i in range(n):
-        gamma[i] = curv_u[i] * dx * dx
-    envelope = np.empty(n - 1)
-    for k in range(n - 1):
-        envelope[k] = _interval_top(f_u[k], f_u[k + 1], gamma[k], gamma[k + 1])
-    top = -np.inf
-    abs_l = 0.0
-    abs_u = 0.0
-    for i in range(n):
-        top = max(top, f_u[i] + f_l[i])
-        abs_l = max(abs_l, abs(f_l[i]))
-        abs_u = max(abs_u, abs(f_u[i]))
-    return gamma, envelope, _sub_max(f_l, sub), _sub_max(envelope, sub), top, abs_l + abs_u
-
-
-@numba.njit(cache=True, nogil=True, inline="always", fastmath={"nnan", "ninf", "nsz"})
-def _sub_max(values: NDArray[np.float64], sub: int) -> NDArray[np.float64]:  # pragma: no cover
-    """:func:`block_max` of finite values (on vector units)."""
-    n = values.size
-    out = np.empty((n + sub - 1) // sub)
-    for q in range(out.size):
-        hi = values[q * sub]
-        for i in range(q * sub + 1, min(n, q * sub + sub)):
-            hi = max(hi, values[i])
-        out[q] = hi
-    return out
 
 
 @numba.njit(cache=True, nogil=True)

@@ -32,7 +32,7 @@ from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
-from ._culling import SPHERE_BLOCK, upper_maxima
+from ._culling import SPHERE_BLOCK
 from ._path_run import run_steps
 from .geometry import _place_bodies, displacement_steps
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
@@ -169,7 +169,7 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
         slope_u = np.ascontiguousarray(fit_u.slope, dtype=np.float64)
         curv_u = np.ascontiguousarray(fit_u.second_derivative, dtype=np.float64)
         # γ = f″·dx², the interval envelope, the sub-block maxima, max(f^u + f^l) and the scale
-        gamma_u, envelope, f_l_sub, envelope_sub, top, abs_sum = upper_maxima(
+        gamma_u, envelope, f_l_sub, envelope_sub, top, abs_sum = _k.upper_maxima(
             f_l, f_u, curv_u, dx, _SUB
         )
         placement = float(top)
@@ -626,7 +626,8 @@ def simulate_path(
     fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
     displacement_steps(max(extent, lower.dx), 0.2, lower.peak_to_valley, 1)  # its limits
     # the mean gap at δ_N = 0 (that of contact_geometry; no candidates are needed: final −∞)
-    mean_gap0 = float(_place_bodies(fit_l.f, fit_l.f if flat else fit_u.f, flat, -np.inf)[2])
+    f_u = fit_l.f if fit_u is None else fit_u.f
+    mean_gap0 = float(_place_bodies(fit_l.f, f_u, fit_u is None, -np.inf)[2])
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
