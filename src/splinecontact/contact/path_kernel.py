@@ -52,7 +52,6 @@ __all__ = [
     "path_step",
     "path_step_from_python",
     "run_steps",  # noqa: F822 - from ._path_run, through __getattr__
-    "upper_maxima",
 ]
 
 
