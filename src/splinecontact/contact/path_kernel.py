@@ -509,11 +509,13 @@ def path_step_from_python(
 
     For calls from Python (the force-controlled steps call it many times per step): numba
     types a plain tuple argument, and returns one, several times faster than a named tuple.
-    The result is the fields of :class:`StepSums` in order.
+    The result is the fields of :class:`StepSums` in order. (No precomputed values: a new
+    empty array, not the global ``_NONE``, which numba would type read-only and so compile
+    :func:`path_step` once more than for :func:`.run_steps`.)
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE,
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, np.empty((6, 0)),
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
