@@ -86,11 +86,17 @@ def interval_envelope(
     n = f.size
     out = np.empty(n - 1)
     for k in range(n - 1):
-        hi = f[k] if f[k] > f[k + 1] else f[k + 1]
-        gk = abs(gamma[k])
-        gk1 = abs(gamma[k + 1])
-        out[k] = hi + 0.125 * (gk if gk > gk1 else gk1)
+        out[k] = _interval_top(f[k], f[k + 1], gamma[k], gamma[k + 1])
     return out
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _interval_top(f0: float, f1: float, g0: float, g1: float) -> float:  # pragma: no cover
+    """:func:`interval_envelope` of one interval (knot values f0, f1, γ values g0, g1)."""
+    hi = f0 if f0 > f1 else f1
+    g0 = abs(g0)
+    g1 = abs(g1)
+    return hi + 0.125 * (g0 if g0 > g1 else g1)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -268,7 +274,15 @@ def _may_touch(
     lim: float,
     min_delta: float,
 ) -> bool:  # pragma: no cover - compiled
-    """The conservative filter of :func:`.path_kernel._filter_closed` for one point."""
+    """The conservative filter of :func:`.path_kernel._filter_closed` for one point.
+
+    The values of :func:`.geometry.sphere_contact` (and of the kernel's upper sphere),
+    operation for operation, so that for the same g, s1, s2 the overlap δ and the eq. 9
+    numerator are the same to the bit; only the last division is replaced by a widened
+    comparison (eq. 9 by a relative 10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale). Dividing
+    or rounding differently would not be conservative where the curvatures nearly vanish
+    (``tests/test_path_filter.py``).
+    """
     norm_u = math.sqrt(1.0 + s1 * s1)
     k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
     m_x = s1 / norm_u
@@ -500,10 +514,11 @@ def step_runs(
 
     Within the given ``blocks`` (which must hold every block that can touch at this shift,
     :func:`candidate_blocks`), each sub-block of ``cull.sub`` points i0 … i1 is kept when the
-    maximum of f^l over it plus the largest interval envelope on the knot intervals
+    maximum of f^l over it plus the largest interval envelope on (at least) the knot intervals
     ⌊i0 − shift⌋ − 1 … ⌊i1 − shift⌋ + 1 (those its points evaluate, with one interval to spare
-    for rounding) is ≥ ``threshold``; kept neighbours are merged. Returns the number of runs
-    (start point, length) written.
+    for rounding) is ≥ ``threshold``; kept neighbours are merged. The intervals are taken by
+    whole sub-blocks of the envelope, the same offset for every sub-block. Returns the number
+    of runs (start point, length) written.
     """
     n = surf.f_l.size
     f_l_sub = cull.f_l_sub
@@ -511,30 +526,32 @@ def step_runs(
     sub = cull.sub
     per_block = cull.block // sub
     margin = cull.margin
-    m = cull.envelope.size
     n_sub = f_l_sub.size
+    top = envelope_sub.size - 1
+    # ⌊i − shift⌋ (as rounded) is i + c or i + c + 1: sub-block q's points (16q … 16q + 15)
+    # see the knot intervals 16q + c − 1 … 16q + 15 + c + 2, in the envelope's sub-blocks
+    # q + a … q + b whatever q (a window at least as wide as the one stated above)
+    c = math.floor(-shift)
+    a = (c - 1) // sub
+    b = (sub + 1 + c) // sub
     n_runs = 0
     end = -1  # one past the last kept point
-    for b in blocks:
-        for q in range(b * per_block, min(n_sub, (b + 1) * per_block)):
+    for blk in blocks:
+        for q in range(blk * per_block, min(n_sub, (blk + 1) * per_block)):
+            lo = max(0, q + a)
+            hi = min(top, q + b)
+            if hi < lo or f_l_sub[q] + _window_max(envelope_sub, lo, hi) + margin < threshold:
+                continue
             i0 = q * sub
-            i1 = min(n, i0 + sub) - 1
-            k_lo = max(0, math.floor(i0 - shift) - 1)
-            k_hi = min(m - 1, math.floor(i1 - shift) + 1)
-            if k_hi < k_lo:
-                continue
-            if (
-                f_l_sub[q] + _window_max(envelope_sub, k_lo // sub, k_hi // sub) + margin
-                < threshold
-            ):
-                continue
             if i0 == end:
-                run_len[n_runs - 1] += i1 + 1 - i0
+                run_len[n_runs - 1] += sub
             else:
                 run_start[n_runs] = i0
-                run_len[n_runs] = i1 + 1 - i0
+                run_len[n_runs] = sub
                 n_runs += 1
-            end = i1 + 1
+            end = i0 + sub
+    if end > n:  # the last sub-block is short
+        run_len[n_runs - 1] -= end - n
     return n_runs
 
 

@@ -65,15 +65,26 @@ def slide_step(
     shift = u / surf.dx
     flags = scratch.cl_flag
     n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags)
-    n_packed = 0
-    o = 0
+    total = 0
     for r in range(n_runs):
-        i0 = run_start[r]
-        for p in range(run_len[r]):
-            flag = flags[o + p]
+        total += run_len[r]
+    # The flags are read eight at a time (one in 40 is set): ``flags`` holds a whole number of
+    # words (:func:`.loadpath._scratch`); the bytes past ``total`` are stale and skipped.
+    words = flags[: (total + 7) & ~7].view(np.uint64)
+    n_packed = 0
+    r = 0  # the run of flag o …
+    o = 0  # … starting at flag o (o + run_len[r] > pos)
+    for w in range(words.size):
+        if words[w] == 0:
+            continue
+        for pos in range(8 * w, min(8 * w + 8, total)):
+            flag = flags[pos]
             if flag == 0:
                 continue
-            i = i0 + p
+            while pos >= o + run_len[r]:
+                o += run_len[r]
+                r += 1
+            i = run_start[r] + (pos - o)
             inside, h_u, k, t = _upper_height(surf, i, shift)
             if not inside:
                 continue
@@ -86,7 +97,6 @@ def slide_step(
             _pack(scratch, n_packed, surf, i, g, s1, s2)
             scratch.cl_keep[n_packed] = True
             n_packed += 1
-        o += run_len[r]
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
         False, n_packed, n_closed,
@@ -136,7 +146,7 @@ def run_steps(
     built_until = -1
     cand = buf_idx[:0]
     bound = buf_bound[:0]
-    pre = np.empty((0, 6))
+    pre = np.empty((6, 0))
     n_sub = cull.f_l_sub.size if sliding else 0
     blocks = np.empty(cull.f_l_block.size if sliding else 0, dtype=np.int64)
     run_start = np.empty(n_sub, dtype=np.int64)

@@ -34,7 +34,7 @@ from ..spline import SplineFit, fit_spline_pair
 from . import path_kernel as _k
 from ._culling import SPHERE_BLOCK
 from ._path_run import run_steps
-from .geometry import contact_geometry
+from .geometry import _place_bodies, displacement_steps
 from .laws import ContactLaw, Hertz, check_law, kernel_material, law_record
 from .segments import Segment, validate_path
 
@@ -70,11 +70,12 @@ class _State:
     def __init__(self, n: int, law: ContactLaw, e_star: float, g_star: float, mu0: float) -> None:
         self.springs = _k.Springs(
             acc=np.zeros(n, dtype=np.bool_),
-            ft=np.zeros(n),
-            xc=np.zeros(n),
-            ex=np.zeros(n),
-            ez=np.zeros(n),
-            cells=np.zeros(n, dtype=np.int64),
+            # by slot: only the n_committed first are read (no zeroing of 4n words)
+            ft=np.empty(n),
+            xc=np.empty(n),
+            ex=np.empty(n),
+            ez=np.empty(n),
+            cells=np.empty(n, dtype=np.int64),
             n_committed=np.zeros(1, dtype=np.int64),
             claimed=np.zeros(n, dtype=np.bool_),
         )
@@ -119,7 +120,8 @@ def _scratch(capacity: int) -> _k.Scratch:
         cl_nx=np.empty(capacity),
         cl_nz=np.empty(capacity),
         cl_keep=np.empty(capacity, dtype=np.bool_),
-        cl_flag=np.empty(capacity, dtype=np.uint8),
+        # a whole number of 8-byte words (the sliding step reads its flags by the word)
+        cl_flag=np.empty(capacity + (-capacity) % 8, dtype=np.uint8),
     )
 
 
@@ -159,17 +161,20 @@ def _prepare(lower: Profile, fit_l: SplineFit, fit_u: SplineFit | None) -> _Geom
             placeholder.setflags(write=False)
         placement = float(f_l.max())
         envelope = np.zeros(1)
+        scale = float(np.abs(f_l).max()) + dx
+        f_l_sub = _k.block_max(f_l, _SUB)
+        envelope_sub = _k.block_max(envelope, _SUB)
     else:
         f_u = np.ascontiguousarray(fit_u.f, dtype=np.float64)
-        gamma_u = np.ascontiguousarray(fit_u.second_derivative * dx * dx, dtype=np.float64)
         slope_u = np.ascontiguousarray(fit_u.slope, dtype=np.float64)
         curv_u = np.ascontiguousarray(fit_u.second_derivative, dtype=np.float64)
-        placement = float((f_u + f_l).max())
-        envelope = _k.interval_envelope(f_u, gamma_u)
-    scale = float(np.abs(f_l).max() + (0.0 if flat else np.abs(f_u).max())) + dx
-    # maxima of sub-blocks, then of blocks of _BLOCK // _SUB sub-blocks (the same values)
-    f_l_sub = _k.block_max(f_l, _SUB)
-    envelope_sub = _k.block_max(envelope, _SUB)
+        # γ = f″·dx², the interval envelope, the sub-block maxima, max(f^u + f^l) and the scale
+        gamma_u, envelope, f_l_sub, envelope_sub, top, abs_sum = _k.upper_maxima(
+            f_l, f_u, curv_u, dx, _SUB
+        )
+        placement = float(top)
+        scale = float(abs_sum) + dx
+    # maxima of blocks of _BLOCK // _SUB sub-blocks (the same values as over the points)
     f_l_block = _k.block_max(f_l_sub, _BLOCK // _SUB)
     envelope_block = _k.block_max(envelope_sub, _BLOCK // _SUB)
     surf = _k.Surfaces(
@@ -619,17 +624,17 @@ def simulate_path(
         [abs(s.normal) for s in segments if s.normal is not None] + [lower.dx], default=lower.dx
     )
     fit_l, fit_u = spline_fits(lower, upper, alpha=alpha, x0=x0) if fits is None else fits
-    geometry = contact_geometry(
-        lower, upper, steps=1, final_displacement=max(extent, lower.dx),
-        final_displacement_factor=0.2, alpha=alpha, x0=x0, fits=(fit_l, fit_u),
-    )  # fmt: skip
+    displacement_steps(max(extent, lower.dx), 0.2, lower.peak_to_valley, 1)  # its limits
+    # the mean gap at δ_N = 0 (that of contact_geometry; no candidates are needed: final −∞)
+    f_u = fit_l.f if fit_u is None else fit_u.f
+    mean_gap0 = float(_place_bodies(fit_l.f, f_u, fit_u is None, -np.inf)[2])
     total = sum(s.steps for s in segments)
     record_steps = _record_steps(record_contacts, total)
     curves, contacts = run_path(
         lower, upper, segments, fits=(fit_l, fit_u), e_star=e_star, g_star=g_star, mu0=mu0,
         alpha=alpha, x0=x0, record_steps=record_steps, law=law,
     )  # fmt: skip
-    curves["mean_separation"] = geometry.mean_gap0 - curves["displacement"]
+    curves["mean_separation"] = mean_gap0 - curves["displacement"]
     path_record = [
         {"normal": s.normal, "normal_force": s.normal_force, "tangential": s.tangential,
          "steps": s.steps}

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from ._culling import (
     Culling,
     Surfaces,
+    _interval_top,
     _may_touch,
     block_max,
     candidate_bounds,
@@ -321,28 +322,42 @@ def path_step(
         n_packed = n_closed
         if not use_fixed:
             _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
-    elif pre.shape[0] > 0 or descending:
+    elif pre.shape[1] > 0 or descending:
         # A fixed shift: the upper body's values at the candidates were computed once.
-        if pre.shape[0] == 0:  # (or not: a reference evaluation, see path_step's doc)
+        if pre.shape[1] == 0:  # (or not: a reference evaluation, see path_step's doc)
             pre = _fixed_shift_values(surf, cand, shift)
-        for j in range(cand.size):
-            if bound[j] < threshold:
-                if descending:
-                    break
+        stop = cand.size
+        if descending:  # the candidates with bound ≥ threshold are a prefix: bisection
+            lo = 0
+            while lo < stop:
+                mid = (lo + stop) >> 1
+                if bound[mid] < threshold:
+                    stop = mid
+                else:
+                    lo = mid + 1
+        # one branch-free pass flags the closed points that may be accepted; only those are
+        # packed (in the candidates' order: the order the exact tests see them in)
+        flags = scratch.cl_flag
+        n_closed = _fixed_flags(
+            pre[0, :stop], pre[1, :stop], pre[2, :stop], pre[3, :stop], pre[4, :stop],
+            pre[5, :stop], bound[:stop], threshold, d, reach, kappa_max, surf.dx, flags[:stop],
+        )  # fmt: skip
+        words = flags[: (stop + 7) & ~7].view(np.uint64)
+        for w in range(words.size):
+            if words[w] == 0:
                 continue
-            g = pre[j, 0] - d
-            if g > reach:
-                continue
-            scratch.cl_i[n_closed] = cand[j]
-            scratch.cl_g[n_closed] = g
-            scratch.cl_s1[n_closed] = pre[j, 1]
-            scratch.cl_s2[n_closed] = pre[j, 2]
-            scratch.cl_kl[n_closed] = pre[j, 3]
-            scratch.cl_nx[n_closed] = pre[j, 4]
-            scratch.cl_nz[n_closed] = pre[j, 5]
-            n_closed += 1
-        n_packed = n_closed
-        _filter_closed(n_packed, kappa_max, half_dx, -reach, scratch)
+            for j in range(8 * w, min(8 * w + 8, stop)):
+                if flags[j] == 0:
+                    continue
+                scratch.cl_i[n_packed] = cand[j]
+                scratch.cl_g[n_packed] = pre[0, j] - d
+                scratch.cl_s1[n_packed] = pre[1, j]
+                scratch.cl_s2[n_packed] = pre[2, j]
+                scratch.cl_kl[n_packed] = pre[3, j]
+                scratch.cl_nx[n_packed] = pre[4, j]
+                scratch.cl_nz[n_packed] = pre[5, j]
+                scratch.cl_keep[n_packed] = True
+                n_packed += 1
     else:
         # Sliding: one branch-free pass flags the few closed points the filter keeps; only
         # those (and the few it could not decide) are evaluated again, alone, and packed.
@@ -494,43 +509,125 @@ def path_step_from_python(
 
     For calls from Python (the force-controlled steps call it many times per step): numba
     types a plain tuple argument, and returns one, several times faster than a named tuple.
-    The result is the fields of :class:`StepSums` in order.
+    The result is the fields of :class:`StepSums` in order. (No precomputed values: a new
+    empty array, not the global ``_NONE``, which numba would type read-only and so compile
+    :func:`path_step` once more than for :func:`.run_steps`.)
     """
     s = path_step(
         u, d, du, dd, commit, Surfaces(*surf), cand, bound, False, Material(*material),
-        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, _NONE,
+        migrate_cells, Springs(*springs), Scratch(*scratch), fixed, use_fixed, np.empty((6, 0)),
     )  # fmt: skip
     return (s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], s[9])
 
 
 #: No precomputed values (:func:`path_step` then evaluates the upper body itself).
-_NONE = np.empty((0, 6))
+_NONE = np.empty((6, 0))
 
 
 @numba.njit(cache=True, nogil=True)
 def _fixed_shift_values(
     surf: Surfaces, cand: NDArray[np.int64], shift: float
 ) -> NDArray[np.float64]:  # pragma: no cover - compiled
-    """Per candidate, for a fixed shift: C − (h^u + f^l), S′, S″, κ^l, n^l_x, n^l_z.
+    """Per candidate, for a fixed shift: C − (h^u + f^l), S′, S″, κ^l, n^l_x, n^l_z (rows).
 
     The upper values by the same scalar evaluation as :func:`path_step`'s (so the gap
     C − (h^u + f^l) − δ_N is the same to the bit); a candidate outside the upper body gets an
-    infinite gap (never closed). One row per candidate, in the candidates' order, so that the
-    steps read them contiguously.
+    infinite gap (never closed). One column per candidate, in the candidates' order, so that
+    the steps read each value contiguously (on vector units).
     """
     m = cand.size
-    out = np.empty((m, 6))
+    out = np.empty((6, m))
     for j in range(m):
         i = cand[j]
         inside, g0, k, t = _rigid_gap(surf, i, shift)
         s1, s2 = _upper_slopes(surf, k, t) if inside else (0.0, 0.0)
-        out[j, 0] = g0 if inside else np.inf
-        out[j, 1] = s1
-        out[j, 2] = s2
+        out[0, j] = g0 if inside else np.inf
+        out[1, j] = s1
+        out[2, j] = s2
         sphere_ready(surf, i)
-        out[j, 3] = surf.kappa_l[i]
-        out[j, 4] = surf.nl_x[i]
-        out[j, 5] = surf.nl_z[i]
+        out[3, j] = surf.kappa_l[i]
+        out[4, j] = surf.nl_x[i]
+        out[5, j] = surf.nl_z[i]
+    return out
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _fixed_flags(
+    g0: NDArray[np.float64],
+    s1: NDArray[np.float64],
+    s2: NDArray[np.float64],
+    k_l: NDArray[np.float64],
+    n_x: NDArray[np.float64],
+    n_z: NDArray[np.float64],
+    bound: NDArray[np.float64],
+    threshold: float,
+    d: float,
+    reach: float,
+    kappa_max: float,
+    dx: float,
+    flags: NDArray[np.uint8],
+) -> int:  # pragma: no cover - compiled
+    """Flags of a fixed-shift step's candidates (the columns of :func:`_fixed_shift_values`).
+
+    A candidate is closed when ``bound`` ≥ ``threshold`` and its gap g0 − δ_N ≤ ``reach``;
+    ``flags`` is 1 where it is closed and passes the conservative filter of
+    :func:`._culling._may_touch`, else 0. Returns the number of closed candidates.
+    """
+    lim = dx * (1.0 + 1e-6)
+    n_closed = 0
+    for j in range(flags.size):
+        g = g0[j] - d
+        closed = (bound[j] >= threshold) & (not g > reach)
+        n_closed += closed
+        keep = closed & _may_touch(g, s1[j], s2[j], k_l[j], n_x[j], n_z[j], kappa_max, lim, -reach)
+        flags[j] = np.uint8(keep)
+    return n_closed
+
+
+@numba.njit(cache=True, nogil=True, fastmath={"nnan", "ninf", "nsz"})
+def upper_maxima(
+    f_l: NDArray[np.float64],
+    f_u: NDArray[np.float64],
+    curv_u: NDArray[np.float64],
+    dx: float,
+    sub: int,
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float, float
+]:  # pragma: no cover - compiled
+    """For a rough pair on one grid: the upper spline's γ = f″·dx², its
+    :func:`interval_envelope`, the :func:`block_max` of f^l and of the envelope over ``sub``
+    points, max(f^u + f^l) and max|f^l| + max|f^u| [µm].
+
+    The same values as those functions and numpy's (each is one product per point or a
+    maximum, exact in any order; the flags let the maxima run on vector units: finite values).
+    """
+    n = f_l.size
+    gamma = np.empty(n)
+    for i in range(n):
+        gamma[i] = curv_u[i] * dx * dx
+    envelope = np.empty(n - 1)
+    for k in range(n - 1):
+        envelope[k] = _interval_top(f_u[k], f_u[k + 1], gamma[k], gamma[k + 1])
+    top = -np.inf
+    abs_l = 0.0
+    abs_u = 0.0
+    for i in range(n):
+        top = max(top, f_u[i] + f_l[i])
+        abs_l = max(abs_l, abs(f_l[i]))
+        abs_u = max(abs_u, abs(f_u[i]))
+    return gamma, envelope, _sub_max(f_l, sub), _sub_max(envelope, sub), top, abs_l + abs_u
+
+
+@numba.njit(cache=True, nogil=True, inline="always", fastmath={"nnan", "ninf", "nsz"})
+def _sub_max(values: NDArray[np.float64], sub: int) -> NDArray[np.float64]:  # pragma: no cover
+    """:func:`block_max` of finite values (on vector units)."""
+    n = values.size
+    out = np.empty((n + sub - 1) // sub)
+    for q in range(out.size):
+        hi = values[q * sub]
+        for i in range(q * sub + 1, min(n, q * sub + sub)):
+            hi = max(hi, values[i])
+        out[q] = hi
     return out
 
 
