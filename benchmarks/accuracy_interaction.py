@@ -30,12 +30,12 @@ import numpy as np
 from splinecontact import Profile, bem
 from splinecontact.compare import _solve_in_substeps
 from splinecontact.contact import contact_geometry, run_loading
-from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 from splinecontact.contact.interaction import (
     InteractionSettings,
     extended_geometry,
     interacting_loading,
 )
+from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 from splinecontact.spline import fit_spline
 
 E_STAR = 10.0

@@ -19,7 +19,7 @@ from splinecontact.contact.interaction import (
     periodic_green,
     self_coefficient,
 )
-from splinecontact.contact.interaction_kernel import _apply, _level, mesh_cache
+from splinecontact.contact.interaction_operator import _apply, _level, mesh_cache
 from splinecontact.errors import ParameterError
 from splinecontact.spline import fit_spline
 

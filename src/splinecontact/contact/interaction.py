@@ -389,7 +389,7 @@ def interacting_loading(
         A mask over the geometry's candidates: every step after the first takes the masked
         candidates as its contacts without the eq. 9 test (force control holds them fixed).
     mesh : numba typed list, optional
-        A kernel cache of :func:`.interaction_kernel.mesh_cache` to reuse across calls with the
+        A kernel cache of :func:`.interaction_operator.mesh_cache` to reuse across calls with the
         same period and E* (its meshes are computed once).
     carry : dict, optional
         In and out: the state after the last step of a previous call (loads, widths, mesh
@@ -450,7 +450,8 @@ def interacting_loading(
         slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
             geometry.n_z
         ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
-    from .interaction_kernel import _MAX_INNER, mesh_cache, run_steps
+    from .interaction_kernel import run_steps
+    from .interaction_operator import _MAX_INNER, mesh_cache
 
     kernel: Any = run_steps  # compiled; its many arguments are checked by numba
     lawful = law is not None and law.code != 0

@@ -6,11 +6,10 @@ convolution on the mesh, near-field corrections), the constrained conjugate grad
 Polonsky & Keer (Wear 231 (1999) 206–219) at contact level, the punch widths, the tangential
 springs (eqs. 11–13) and the per-step sums (eq. 14) — runs here without returning to Python.
 
-The mesh convolution is the package's compiled real-FFT circulant product
-(``splinecontact._fft.circulant``); the mesh kernel and the transform's tables of every
-mesh size are computed on first use and cached in a typed list. Steps with at most
-``DENSE_CONTACTS`` contacts assemble the operator as a matrix (mesh coupling of every pair and
-the exact near pairs) and convolve the mesh once, for the surface's rise.
+The operator and the constrained solve live in :mod:`.interaction_operator`, the contact
+laws' Newton solve in :mod:`.interaction_laws`. Steps with at most ``DENSE_CONTACTS``
+contacts assemble the operator as a matrix (mesh coupling of every pair and the exact near
+pairs) and convolve the mesh once, for the surface's rise.
 """
 
 from __future__ import annotations
@@ -19,39 +18,20 @@ import math
 
 import numba
 import numpy as np
-from numba.typed import List
 from numpy.typing import NDArray
 
-from .._fft import CirculantConvolution, circulant
 from .halfplane import (
     CELLS_PER_SOURCE,
     NEAR_CELLS,
     NEAR_WIDTHS,
-    _collect,
     _dense_coupling,
     _near_lists,
     _near_pairs,
-    _pk_direction,
-    _pk_update,
     _spread,
-    mesh_kernel,
 )
 from .interaction import UPLIFT_FACTOR, _accept
-from .interaction_laws import (
-    _FD_STEP,
-    _HALVINGS,
-    _JUMP_AFTER,
-    _MAX_NEWTON,
-    LAW_TOL_FLOOR,
-    commit_rows,
-    law_bound,
-    law_evaluate,
-    law_widths,
-    newton_rhs,
-    newton_scale,
-    release_dropped,
-    release_unstable,
-)
+from .interaction_laws import _law_solve, commit_rows, law_widths, release_dropped
+from .interaction_operator import _convolve, _level, _pk_solve, mesh_cache
 from .laws import HERTZ
 from .punch import _profile_widths
 
@@ -59,287 +39,11 @@ __all__ = ["mesh_cache", "run_steps"]
 
 _QUARTER_PI = 0.25 * math.pi
 
-#: Conjugate-gradient iterations per solve.
-_MAX_INNER = 10_000
-
-#: Entries per mesh level in the kernel cache: the mesh kernel, then the arrays of the compiled
-#: circulant product on the mesh (:attr:`splinecontact._fft.CirculantConvolution.arguments`,
-#: its two integer sizes stored as one array).
-_PER_LEVEL = 17
-
-#: Smallest mesh: 2**_MIN_LEVEL cells.
-_MIN_LEVEL = 6
-
 #: Steps with at most this many accepted contacts apply the particle–mesh operator as a
 #: matrix (the mesh coupling of every pair plus the near corrections, built once per width
 #: update) instead of spreading and convolving at every conjugate-gradient iteration; the
 #: mesh field is then convolved once, for the converged loads [1].
 DENSE_CONTACTS = 512
-
-
-def mesh_cache(max_cells: int) -> List:
-    """An empty kernel cache for meshes of 64 … ``max_cells`` cells (filled on first use)."""
-    levels = int(math.log2(max_cells)) + 1
-    cache = List()
-    for _ in range(levels * _PER_LEVEL):
-        cache.append(np.zeros(0))
-    return cache
-
-
-def _mesh_level(
-    cells: int, period: float, e_star: float
-) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """The arrays of one cache level, concatenated, and their offsets (``_PER_LEVEL`` + 1)."""
-    green = mesh_kernel(cells, period, e_star)
-    # the mesh kernel is real and even, so its spectrum is real
-    product = CirculantConvolution(np.ascontiguousarray(np.fft.rfft(green).real), cells)
-    parts = [green]
-    for value in product.arguments:
-        if isinstance(value, np.ndarray):
-            parts.append(value)
-        elif len(parts) == 8:  # n1 (n2 follows): one array of both
-            parts.append(np.array([product.n1, product.n2], dtype=np.float64))
-    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
-    offsets[1:] = np.cumsum([part.size for part in parts])
-    return np.concatenate(parts).astype(np.float64), offsets
-
-
-@numba.njit(cache=True)
-def _level(cache, cells: int, period: float, e_star: float) -> int:  # pragma: no cover
-    """Index of the mesh of ``cells`` cells in ``cache``, computing its kernels on first use.
-
-    The mesh kernel is the periodic Green function at the cell offsets minus the mean
-    smoothing h²/6 · G″ of linear spreading and reading (:func:`.halfplane.mesh_kernel`).
-    """
-    level = 0
-    while (1 << level) < cells:
-        level += 1
-    base = level * _PER_LEVEL
-    if cache[base].size == 0:
-        with numba.objmode(flat="float64[::1]", offsets="int64[::1]"):
-            flat, offsets = _mesh_level(cells, period, e_star)
-        for k in range(_PER_LEVEL):
-            cache[base + k] = flat[offsets[k] : offsets[k + 1]]
-    return base
-
-
-@numba.njit(cache=True)
-def _convolve(
-    cache, base: int, rho: NDArray[np.float64]
-) -> NDArray[np.float64]:  # pragma: no cover
-    """Periodic convolution of the mesh loads with the mesh kernel (compiled real FFT)."""
-    phi = np.empty(rho.size)
-    dims = cache[base + 8]
-    circulant(
-        rho, phi, cache[base + 1], cache[base + 2], cache[base + 3], cache[base + 4],
-        cache[base + 5], cache[base + 6], cache[base + 7], int(dims[0]), int(dims[1]),
-        cache[base + 9], cache[base + 10], cache[base + 11], cache[base + 12],
-        cache[base + 13], cache[base + 14], cache[base + 15], cache[base + 16],
-    )  # fmt: skip
-    return phi
-
-
-@numba.njit(cache=True)
-def _apply(
-    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """(local·P + e_z w(P) at the contacts, the mesh displacement).
-
-    ``op`` = (source positions [µm], their contacts, their e_z, mesh spacing [µm], near-pair
-    CSR start, sources and corrections) of the step.
-    """
-    pos, owner, ez_src, h, start, src, coef = op
-    cells = cache[base].size
-    q, rho = _spread(load, owner, ez_src, pos, cells, h)
-    phi = _convolve(cache, base, rho)
-    u = _collect(phi, pos, load.size, h, start, src, coef, q, load, ez, local)
-    return u, phi
-
-
-@numba.njit(cache=True)
-def _operate(
-    cache, base: int, load: NDArray[np.float64], local: float, ez: NDArray[np.float64], op: tuple
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
-    """:func:`_apply`, or with the operator as a matrix (``op`` = (the operands of
-    :func:`_apply`, Kᵀ of :func:`.halfplane._dense_coupling` or an empty matrix)) the same
-    local·P + e_z Kᵀ P without the mesh displacement (empty)."""
-    dense = op[7]
-    if dense.shape[0] == 0:
-        return _apply(cache, base, load, local, ez, op[:7])
-    n = load.size
-    w = np.zeros(n)
-    for k in range(n):
-        p = load[k]
-        if p != 0.0:
-            row = dense[k]
-            for i in range(n):
-                w[i] += row[i] * p
-    for i in range(n):
-        w[i] = local * load[i] + ez[i] * w[i]
-    return w, np.zeros(0)
-
-
-@numba.njit(cache=True)
-def _pk_solve(
-    cache,
-    base: int,
-    delta: NDArray[np.float64],
-    load: NDArray[np.float64],
-    tol: float,
-    ez: NDArray[np.float64],
-    a: NDArray[np.float64],
-    period: float,
-    c: float,
-    op: tuple,
-) -> tuple[NDArray[np.float64], int, float, NDArray[np.float64]]:  # pragma: no cover
-    """Constrained conjugate gradients (Polonsky–Keer, displacement control) at contact level.
-
-    Finds P ≥ 0 with h = C P − δ ≥ 0 and P·h = 0 (C at frozen widths). C P is updated
-    incrementally while the loaded set does not change, and recomputed before convergence is
-    declared (``op`` as :func:`_operate`). Returns (P, iterations, residual, mesh displacement
-    of P); iterations −1 when the solve did not converge. A converged P was the last load the
-    operator was applied to, so the mesh displacement of that application is the surface
-    displacement of the step.
-    """
-    n = delta.size
-    scale = delta.max()
-    if scale <= 0.0:
-        return np.zeros(n), 0, 0.0, np.zeros(0)
-    p = np.maximum(load, 0.0)
-    t = np.zeros(n)
-    h = np.empty(n)
-    g_norm_old = 0.0
-    conjugate = False
-    largest = -np.inf
-    for i in range(n):
-        self_part = max(c * (math.log(period / (math.pi * a[i])) - 1.5), 0.0)
-        largest = max(largest, 2.0 * c + ez[i] ** 2 * self_part)
-    fallback = 1.0 / largest
-    local = 2.0 * c
-    cp, phi = _operate(cache, base, p, local, ez, op)
-    exact = True
-    residual = np.inf
-    for iteration in range(_MAX_INNER + 1):
-        residual, any_loaded, g_norm = _pk_direction(
-            p, cp, delta, h, t, conjugate, g_norm_old, scale
-        )
-        if residual <= tol:
-            if exact:
-                return p, iteration, residual, phi
-            cp, phi = _operate(cache, base, p, local, ez, op)
-            exact = True
-            continue
-        if not any_loaded:
-            d = np.maximum(-h, 0.0)
-            cd, _ = _operate(cache, base, d, local, ez, op)
-            curvature = np.dot(d, cd)
-            step = np.dot(d, d) / curvature if curvature > 0.0 else fallback
-            p = step * d
-            conjugate = False
-            cp, phi = _operate(cache, base, p, local, ez, op)
-            exact = True
-            continue
-        g_norm_old = g_norm
-        r, _ = _operate(cache, base, t, local, ez, op)
-        conjugate, linear = _pk_update(p, cp, r, t, h, fallback)
-        if not linear:
-            cp, phi = _operate(cache, base, p, local, ez, op)
-        exact = not linear
-    return p, -1, residual, phi
-
-
-@numba.njit(cache=True)
-def _law_solve(
-    cache,
-    base: int,
-    delta: NDArray[np.float64],
-    load: NDArray[np.float64],
-    tol: float,
-    ez: NDArray[np.float64],
-    a: NDArray[np.float64],
-    period: float,
-    c: float,
-    op: tuple,
-    law: tuple,
-    rows: NDArray[np.float64],
-    r_eff: NDArray[np.float64],
-    held: NDArray[np.bool_],
-) -> tuple:  # pragma: no cover - compiled
-    """P_i = f_i(δ − e_z w(P)) for a law other than Hertz (:mod:`.interaction_laws`): Newton
-    steps, each a constrained CG solve (:func:`_pk_solve`, contacts scaled by √(k̃/k_H)).
-
-    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows,
-    ``held`` the contacts the jump rule holds apart for the step (updated).
-    Returns (the law's forces at the converged δ^eff, CG iterations or −1, residual, mesh
-    displacement, δ^eff [µm], the law's widths √2·b [µm]).
-    """
-    code, params, e_star = law
-    n = delta.size
-    k_h = _QUARTER_PI * e_star
-    reserve = law_bound(code, params, r_eff)
-    adhesive = reserve.min() < 0.0
-    # approach scale: the largest overlap, or the pull-off's approach (δ ≈ 0 at touching)
-    scale = max(np.abs(delta).max(), 0.25 * np.abs(reserve).max() / k_h, 1e-300)
-    fd = _FD_STEP * scale
-    lower = np.zeros(n)
-    coupled_lower = np.zeros(n)
-    pos, owner, ez_src, h, start, src, coef, dense = op
-    p = load.copy()
-    force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
-    u, phi = _operate(cache, base, p, 0.0, ez, op)
-    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
-    total = 0
-    since = 0
-    last = np.inf
-    for _ in range(_MAX_NEWTON):
-        misfit = p - force
-        residual = np.abs(misfit).max() / (k_h * scale)
-        # converged at tol, or stalled (at roundoff or the laws' own root accuracy) below the
-        # floor
-        if residual <= tol or (residual <= LAW_TOL_FLOOR and residual > 0.5 * last):
-            return force.copy(), total, residual, phi, delta - u, width
-        last = residual
-        if since >= _JUMP_AFTER:
-            if release_unstable(code, rows, p, force, stiffness, ez, a, period, c, held) == 0:
-                break
-            since = 0
-            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
-            continue
-        if adhesive:
-            # a bound below the loads of the step, never far below them (the shift by the
-            # bound sets the scale of the linear solve): twice the most tensile of P and f,
-            # and a quarter of the pull-off bound
-            lower = 2.0 * np.minimum(np.minimum(p, force), 0.0) + 0.25 * reserve
-            coupled_lower, _ = _operate(cache, base, lower, 0.0, ez, op)
-        s = newton_scale(stiffness, e_star)
-        rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
-        # contact i scaled by s_i: sources by s of their contact, the matrix's rows likewise
-        # (Kᵀ[j, i] carries source j's e_z), the gathering by ez·s below
-        scaled_dense = dense * np.expand_dims(s, 1) if dense.shape[0] else dense
-        scaled = (pos, owner, ez_src * s[owner], h, start, src, coef, scaled_dense)
-        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12), its
-        # tolerance relative to its right-hand side (a solve stopped at its iteration limit
-        # still improves P: the residual is the exact law's)
-        wanted = max(min(0.1 * residual, tol), 1e-12) * scale
-        inner = min(max(wanted / max(np.abs(rhs).max(), 1e-300), 1e-14), 0.1)
-        q, iterations, _, _ = _pk_solve(
-            cache, base, rhs, np.maximum(p - lower, 0.0) / s, inner, ez * s, a, period, c, scaled
-        )
-        total += iterations if iterations >= 0 else _MAX_INNER
-        step = lower + s * q - p
-        merit = np.dot(misfit, misfit)
-        start_p = p
-        for halving in range(_HALVINGS + 2):
-            # the full step again when no halving lowers ‖P − f‖ (a law's jump between the
-            # iterates: the merit is not continuous there)
-            lam = 1.0 if halving > _HALVINGS else 0.5**halving
-            p = start_p + lam * step
-            u, phi = _operate(cache, base, p, 0.0, ez, op)
-            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
-            if np.dot(p - force, p - force) < merit or halving > _HALVINGS:
-                break
-        since += 1
-    return force.copy(), -1, np.abs(p - force).max() / (k_h * scale), phi, delta - u, width
 
 
 @numba.njit(cache=True, nogil=True)

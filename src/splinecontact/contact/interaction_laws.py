@@ -59,6 +59,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from .interaction_operator import _MAX_INNER, _operate, _pk_solve
 from .laws import HERTZ, commit_law, normal_law, release_law
 
 __all__ = [
@@ -278,3 +279,97 @@ def release_dropped(
         at = np.searchsorted(now, q)
         if at == now.size or now[at] != q:
             release_law(code, law_state, cand_point[q])
+
+
+@numba.njit(cache=True)
+def _law_solve(
+    cache,
+    base: int,
+    delta: NDArray[np.float64],
+    load: NDArray[np.float64],
+    tol: float,
+    ez: NDArray[np.float64],
+    a: NDArray[np.float64],
+    period: float,
+    c: float,
+    op: tuple,
+    law: tuple,
+    rows: NDArray[np.float64],
+    r_eff: NDArray[np.float64],
+    held: NDArray[np.bool_],
+) -> tuple:  # pragma: no cover - compiled
+    """P_i = f_i(δ − e_z w(P)) for a law other than Hertz (:mod:`.interaction_laws`): Newton
+    steps, each a constrained CG solve (:func:`_pk_solve`, contacts scaled by √(k̃/k_H)).
+
+    ``law`` = (code, kernel parameters, E* [GPa]); ``rows`` the contacts' trial history rows,
+    ``held`` the contacts the jump rule holds apart for the step (updated).
+    Returns (the law's forces at the converged δ^eff, CG iterations or −1, residual, mesh
+    displacement, δ^eff [µm], the law's widths √2·b [µm]).
+    """
+    code, params, e_star = law
+    n = delta.size
+    k_h = _QUARTER_PI * e_star
+    reserve = law_bound(code, params, r_eff)
+    adhesive = reserve.min() < 0.0
+    # approach scale: the largest overlap, or the pull-off's approach (δ ≈ 0 at touching)
+    scale = max(np.abs(delta).max(), 0.25 * np.abs(reserve).max() / k_h, 1e-300)
+    fd = _FD_STEP * scale
+    lower = np.zeros(n)
+    coupled_lower = np.zeros(n)
+    pos, owner, ez_src, h, start, src, coef, dense = op
+    p = load.copy()
+    force, width, stiffness = np.empty(n), np.empty(n), np.empty(n)
+    u, phi = _operate(cache, base, p, 0.0, ez, op)
+    law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+    total = 0
+    since = 0
+    last = np.inf
+    for _ in range(_MAX_NEWTON):
+        misfit = p - force
+        residual = np.abs(misfit).max() / (k_h * scale)
+        # converged at tol, or stalled (at roundoff or the laws' own root accuracy) below the
+        # floor
+        if residual <= tol or (residual <= LAW_TOL_FLOOR and residual > 0.5 * last):
+            return force.copy(), total, residual, phi, delta - u, width
+        last = residual
+        if since >= _JUMP_AFTER:
+            if release_unstable(code, rows, p, force, stiffness, ez, a, period, c, held) == 0:
+                break
+            since = 0
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+            continue
+        if adhesive:
+            # a bound below the loads of the step, never far below them (the shift by the
+            # bound sets the scale of the linear solve): twice the most tensile of P and f,
+            # and a quarter of the pull-off bound
+            lower = 2.0 * np.minimum(np.minimum(p, force), 0.0) + 0.25 * reserve
+            coupled_lower, _ = _operate(cache, base, lower, 0.0, ez, op)
+        s = newton_scale(stiffness, e_star)
+        rhs = newton_rhs(s, force, lower, u, coupled_lower, c)
+        # contact i scaled by s_i: sources by s of their contact, the matrix's rows likewise
+        # (Kᵀ[j, i] carries source j's e_z), the gathering by ez·s below
+        scaled_dense = dense * np.expand_dims(s, 1) if dense.shape[0] else dense
+        scaled = (pos, owner, ez_src * s[owner], h, start, src, coef, scaled_dense)
+        # inexact Newton: the linear solve to a tenth of the residual (not below 1e−12), its
+        # tolerance relative to its right-hand side (a solve stopped at its iteration limit
+        # still improves P: the residual is the exact law's)
+        wanted = max(min(0.1 * residual, tol), 1e-12) * scale
+        inner = min(max(wanted / max(np.abs(rhs).max(), 1e-300), 1e-14), 0.1)
+        q, iterations, _, _ = _pk_solve(
+            cache, base, rhs, np.maximum(p - lower, 0.0) / s, inner, ez * s, a, period, c, scaled
+        )
+        total += iterations if iterations >= 0 else _MAX_INNER
+        step = lower + s * q - p
+        merit = np.dot(misfit, misfit)
+        start_p = p
+        for halving in range(_HALVINGS + 2):
+            # the full step again when no halving lowers ‖P − f‖ (a law's jump between the
+            # iterates: the merit is not continuous there)
+            lam = 1.0 if halving > _HALVINGS else 0.5**halving
+            p = start_p + lam * step
+            u, phi = _operate(cache, base, p, 0.0, ez, op)
+            law_evaluate(code, params, delta - u, r_eff, rows, fd, force, width, stiffness, held)
+            if np.dot(p - force, p - force) < merit or halving > _HALVINGS:
+                break
+        since += 1
+    return force.copy(), -1, np.abs(p - force).max() / (k_h * scale), phi, delta - u, width

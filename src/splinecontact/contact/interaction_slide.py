@@ -61,7 +61,7 @@ from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
 from .interaction import InteractionSettings, _check_finite, interacting_loading
-from .interaction_kernel import mesh_cache
+from .interaction_operator import mesh_cache
 from .laws import spring_sums
 from .loadpath import FORCE_RTOL, _prepare, _solve_force
 from .path_kernel import (
