@@ -34,9 +34,10 @@ _PI = math.pi
 
 #: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
 #: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
-#: R_eff [µm], branch, t, dδ/d ln t [µm]) that lets the commit of a step reuse its trial
-#: evaluation and the next one start Newton from a linear prediction.
-N_STATE = 10
+#: R_eff [µm], branch, t, dδ/d ln t [µm], ln t, d²δ/d(ln t)² [µm], db/d ln t [µm],
+#: d²b/d(ln t)² [µm]; 0: not known) that lets the commit of a step reuse its trial evaluation and the next one predict
+#: its root (:func:`_md_predicted`).
+N_STATE = 14
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -215,8 +216,8 @@ def _md_of_t(
 @numba.njit(cache=True, nogil=True)
 def _md_of_t_d(
     t: float, r_eff: float, e_star: float, w: float, sigma0: float
-) -> tuple[float, float, float, float]:
-    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
+) -> tuple[float, float, float, float, float]:
+    # (b, δ, P, dδ/d ln t, db/d ln t) on the contact branch: _md_of_t with the analytic derivative
     # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
     # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
     # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
@@ -229,7 +230,7 @@ def _md_of_t_d(
     d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
     d_g = t / m * asinh_t - 1.5 - log_m - t * t / (m * m)
     d_delta = (2.0 * b / r + a_k * g) * d_bt + a_k * b * d_g
-    return b, delta, force, t * d_delta
+    return b, delta, force, t * d_delta, t * d_bt
 
 
 _LOG_T_MIN = math.log(1e-9)
@@ -282,7 +283,7 @@ def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[fl
         x = (a * fc - c * fa) / (fc - fa)
         if not a < x < c:
             x = 0.5 * (a + c)
-        _, d, _, f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        _, d, _, f, _ = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
         if abs(f) <= 1e-13 * abs(d):  # flat to rounding: δ is its minimum to ~1e-26 relative
             break
         if f < 0.0:
@@ -322,37 +323,39 @@ def _md_contact_root(
     sigma0: float,
     guess: float,
     previous: float,
-) -> tuple[float, float]:
+) -> tuple[float, float, float, float]:
     # δ(t) decreases on (0, t_f]: (t, dδ/d ln t) with δ(t) = δ, by Newton in x = ln t with the
     # analytic derivative, safeguarded by the bracket lo < x < hi it has seen (δ − δ(lo) ≤ 0 ≤
     # δ − δ(hi); hi starts at the fold): a step that leaves it, a non-negative slope (near the
     # fold) or a step of more than 2 bisects or, with no lower end yet, moves 2 left.
     # ``guess`` is the previous step's t or a point predicted from the last evaluation's tangent
-    # (``previous`` is then that prediction's length in ln t), 0 when cold.
+    # (``previous`` is then that prediction's length in ln t), 0 when cold. Returns t, the
+    # slope and db/d ln t of the last evaluation, and ln t.
     x_f = math.log(t_f)
     f_f = d_f - delta
     if f_f >= 0.0:
-        return t_f, 0.0
+        return t_f, 0.0, x_f, 0.0
     x = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
     lo = -700.0
     lo_known = False
     hi = x_f
     slope = 0.0
+    d_b = 0.0
     for _ in range(300):
-        _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        _, d, _, slope, d_b = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
         f = d - delta
         # converged: δ met to rounding, and the Newton step that remains is negligible too
         # (near the fold |dδ/d ln t| can be ~1e-8 |δ|, where a residual of 1e-14 |δ| is still
         # a step of 1e-6 in ln t)
         if abs(f) <= 1e-14 * abs(delta) and (slope < 0.0 and abs(f) <= 1e-12 * -slope):
-            return math.exp(x), slope
+            return math.exp(x), slope, x, d_b
         if f > 0.0:
             lo = x
             lo_known = True
         else:
             hi = x
         if hi - lo <= 1e-13:
-            return math.exp(x), slope
+            return math.exp(x), slope, x, d_b
         x_new = x - f / slope if slope < 0.0 else x
         step = abs(x_new - x)
         if not (lo < x_new < hi and 0.0 < step <= 2.0):
@@ -363,10 +366,10 @@ def _md_contact_root(
         # Quadratic convergence: the next step would be ≈ step³/previous² (C = step/prev²);
         # below 1e-14 the new point is converged and needs no evaluation of its own.
         if step <= 1e-13 or (step < 1e-2 * previous and step**3 <= 1e-14 * previous**2):
-            return math.exp(x_new), slope
+            return math.exp(x_new), slope, x_new, d_b
         previous = step
         x = x_new
-    return math.exp(x), slope
+    return math.exp(x), slope, x, d_b
 
 
 @numba.njit(cache=True, nogil=True)
@@ -403,6 +406,10 @@ def md_evaluate(
         state[7] = out[2]
         state[8] = out[3]
         state[9] = out[7]
+        state[10] = out[8]
+        state[11] = out[9]
+        state[12] = out[10]
+        state[13] = out[11]
     return out[0], out[1], out[2], out[3], out[4], out[5], out[6]
 
 
@@ -414,27 +421,22 @@ def _md_evaluate(
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[float, float, float, float, float, float, float, float]:
+) -> tuple[
+    float, float, float, float, float, float, float, float, float, float, float, float
+]:
     """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
     (state columns 2–4, a function of R_eff alone) and returns, after md_evaluate's seven
-    values, dδ/d ln t [µm] at t (0 when not known), the slope the next Newton start uses."""
+    values, what the next evaluation predicts its root from: dδ/d ln t [µm] at t, ln t,
+    d²δ/d(ln t)² [µm] and db/d ln t [µm] (0 when not known)."""
     if w == 0.0:
         if delta > 0.0:
-            return (
-                0.25 * _PI * e_star * delta,
-                math.sqrt(delta * r_eff),
-                2.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            )
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            hertz = 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)
+            return hertz[0], hertz[1], 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
-        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0, 0.0, 0.0, 0.0, 0.0
     if state[2] == r_eff and r_eff > 0.0:
         t_f = state[3]
         d_f = state[4]
@@ -449,13 +451,16 @@ def _md_evaluate(
     if not in_contact:
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
-            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0  # adhesive zone, gap at x = 0 open
+            # adhesive zone, gap at x = 0 open
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, 0.0, 0.0
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, 0.0, 0.0
     guess = state[1] if branch == 2.0 else 0.0
     previous = 1.0
+    curvature = 0.0
+    d2_b = 0.0
     if (
         branch == 2.0
         and state.size >= N_STATE
@@ -464,15 +469,94 @@ def _md_evaluate(
         and state[8] > 0.0
         and state[9] < 0.0
     ):
-        # The last evaluation was on this contact branch: start from its tangent (a Newton
-        # step from a known point, so the root's convergence test can use its length).
-        step = (delta - state[5]) / state[9]
-        if abs(step) < 0.5:
-            guess = state[8] * math.exp(step)
-            previous = max(abs(step), 1e-300)
-    t, slope = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
+        # The last evaluation was on this contact branch: predict the root from it.
+        done, t, b, force, slope, x, curvature, d_b, d2_b = _md_predicted(
+            delta, math.log(t_f), r_eff, e_star, w, sigma0, state
+        )
+        if done:
+            width = math.sqrt(2.0) * b
+            return force, width, 2.0, t, r_eff, t_f, d_f, slope, x, curvature, d_b, d2_b
+        # Not converged: Newton goes on from the prediction (a Newton step from a known point,
+        # so the root's convergence test can use its length).
+        if t > 0.0:
+            guess = t
+            previous = max(x, 1e-300)
+    t, slope, x, d_b = _md_contact_root(
+        delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous
+    )
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, curvature, d_b, d2_b
+
+
+#: Largest predicted step in ln t [1] that :func:`_md_predicted` finishes in one evaluation.
+_PREDICTED_STEP_MAX = 0.05
+#: Bound on the error, in ln t and relative in b, of the root :func:`_md_predicted` accepts
+#: (the Newton iteration's own, :func:`_md_contact_root`).
+_PREDICTED_TOL = 1e-14
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_predicted(
+    delta: float,
+    x_f: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[bool, float, float, float, float, float, float, float, float]:
+    # The root of δ(x) = δ (x = ln t) on the contact branch in ONE evaluation, from the memo
+    # of the last one (δ_k, x_k, δ'_k, δ''_k, b'_k, b''_k; primes: d/dx):
+    # * a quadratic prediction x_g = x_k + p − δ''_k p²/(2δ'_k), p = (δ − δ_k)/δ'_k (its
+    #   error is ≈ 0.65 (x_g − x_k)³ on a loading path);
+    # * one evaluation there: δ_g, δ'_g, b_g, b'_g, and δ'', b'' from the change of δ', b'
+    #   since x_k (divided differences: their error, ε, is taken as half their change since
+    #   the last step);
+    # * the root of the quadratic Taylor polynomial of δ at x_g, x* = x_g + Δ with
+    #   Δ = −s − δ''s²/(2δ'), s = (δ_g − δ)/δ'_g, and b* = b_g + b'Δ + b''Δ²/2.
+    # Accepted when the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')²) in x and
+    # ε_b'' Δ² + |Δ|³ (|b'| + |b''|) in b (with a safety factor 10), are below _PREDICTED_TOL
+    # (relative in b). P* is then (MD-P) at b*, t* = e^{x*}.
+    # Returns (done, t*, b*, P*, δ'_g, x*, δ''_g, b'_g, b''_g); when not done, the point the
+    # Newton iteration goes on from: (False, t or 0 (none), 0, 0, δ'_g, the length in x of
+    # the step that led to t in the place of x*, δ''_g, b'_g, b''_g).
+    slope_k = state[9]
+    x_k = state[10]
+    curvature_k = state[11]
+    p = (delta - state[5]) / slope_k
+    dx = p - 0.5 * curvature_k * p * p / slope_k
+    x_g = x_k + dx
+    if not (abs(dx) <= _PREDICTED_STEP_MAX and x_g < x_f):
+        # too far for one evaluation: Newton starts from the tangent, if not too far either
+        if abs(p) < 0.5:
+            return False, state[8] * math.exp(p), 0.0, 0.0, 0.0, abs(p), 0.0, 0.0, 0.0
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b, d, _, slope, d_b = _md_of_t_d(math.exp(x_g), r_eff, e_star, w, sigma0)
+    if not slope < 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    s = (d - delta) / slope
+    h = x_g - x_k
+    curvature = 0.0
+    d2_b = 0.0
+    if h != 0.0:
+        curvature = (slope - slope_k) / h
+        d2_b = (d_b - state[12]) / h
+    step = -s - 0.5 * curvature * s * s / slope
+    x = x_g + step
+    ratio = curvature / slope
+    s2 = s * s
+    a_s = abs(s)
+    a_step = abs(step)
+    err_x = 0.5 * abs(curvature - curvature_k) * s2 / -slope + a_s * s2 * (1.0 + ratio * ratio)
+    err_b = 0.5 * abs(d2_b - state[13]) * step * step + a_step**3 * (abs(d_b) + abs(d2_b))
+    if x < x_f and 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
+        t = math.exp(x)
+        b = b + step * (d_b + 0.5 * d2_b * step)
+        r = 0.5 * r_eff
+        force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
+        return True, t, b, force, slope, x, curvature, d_b, d2_b
+    t = math.exp(x) if x < x_f else 0.0
+    return False, t, 0.0, 0.0, slope, a_step, curvature, d_b, d2_b
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
