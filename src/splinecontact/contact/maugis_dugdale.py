@@ -37,7 +37,7 @@ _PI = math.pi
 #: R_eff [µm], branch, t, dδ/d ln t [µm], ln t, d²δ/d(ln t)² [µm], db/d ln t [µm],
 #: d²b/d(ln t)² [µm]; 0: not known) that lets the commit of a step reuse its trial evaluation and the next one predict
 #: its root (:func:`_md_predicted`).
-N_STATE = 14
+N_STATE = 18
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -407,9 +407,10 @@ def md_evaluate(
         state[8] = out[3]
         state[9] = out[7]
         state[10] = out[8]
-        state[11] = out[9]
-        state[12] = out[10]
-        state[13] = out[11]
+        state[12] = out[9]
+        if not out[10]:  # no new estimates of the derivatives (_md_predicted): not known
+            state[11] = 0.0
+            state[13:N_STATE] = 0.0
     return out[0], out[1], out[2], out[3], out[4], out[5], out[6]
 
 
@@ -421,9 +422,7 @@ def _md_evaluate(
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[
-    float, float, float, float, float, float, float, float, float, float, float, float
-]:
+) -> tuple[float, float, float, float, float, float, float, float, float, float, bool]:
     """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
     (state columns 2–4, a function of R_eff alone) and returns, after md_evaluate's seven
     values, what the next evaluation predicts its root from: dδ/d ln t [µm] at t, ln t,
@@ -431,12 +430,12 @@ def _md_evaluate(
     if w == 0.0:
         if delta > 0.0:
             hertz = 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)
-            return hertz[0], hertz[1], 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return hertz[0], hertz[1], 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
-        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0, 0.0, 0.0, False
     if state[2] == r_eff and r_eff > 0.0:
         t_f = state[3]
         d_f = state[4]
@@ -452,15 +451,14 @@ def _md_evaluate(
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
             # adhesive zone, gap at x = 0 open
-            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, 0.0, 0.0
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, False
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, 0.0, 0.0
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, False
     guess = state[1] if branch == 2.0 else 0.0
     previous = 1.0
-    curvature = 0.0
-    d2_b = 0.0
+    predicted = False
     if (
         branch == 2.0
         and state.size >= N_STATE
@@ -470,22 +468,22 @@ def _md_evaluate(
         and state[9] < 0.0
     ):
         # The last evaluation was on this contact branch: predict the root from it.
-        done, t, b, force, slope, x, curvature, d_b, d2_b = _md_predicted(
-            delta, math.log(t_f), r_eff, e_star, w, sigma0, state
+        done, t, b, force, slope, x, d_b = _md_predicted(
+            delta, t_f, r_eff, e_star, w, sigma0, state
         )
         if done:
-            width = math.sqrt(2.0) * b
-            return force, width, 2.0, t, r_eff, t_f, d_f, slope, x, curvature, d_b, d2_b
+            return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, d_b, True
         # Not converged: Newton goes on from the prediction (a Newton step from a known point,
         # so the root's convergence test can use its length).
         if t > 0.0:
             guess = t
             previous = max(x, 1e-300)
+        predicted = slope < 0.0  # it evaluated: its estimates of the derivatives are new
     t, slope, x, d_b = _md_contact_root(
         delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous
     )
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, curvature, d_b, d2_b
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, d_b, predicted
 
 
 #: Largest predicted step in ln t [1] that :func:`_md_predicted` finishes in one evaluation.
@@ -498,65 +496,82 @@ _PREDICTED_TOL = 1e-14
 @numba.njit(cache=True, nogil=True)
 def _md_predicted(
     delta: float,
-    x_f: float,
+    t_f: float,
     r_eff: float,
     e_star: float,
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[bool, float, float, float, float, float, float, float, float]:
+) -> tuple[bool, float, float, float, float, float, float]:
     # The root of δ(x) = δ (x = ln t) on the contact branch in ONE evaluation, from the memo
-    # of the last one (δ_k, x_k, δ'_k, δ''_k, b'_k, b''_k; primes: d/dx):
-    # * a quadratic prediction x_g = x_k + p − δ''_k p²/(2δ'_k), p = (δ − δ_k)/δ'_k (its
-    #   error is ≈ 0.65 (x_g − x_k)³ on a loading path);
-    # * one evaluation there: δ_g, δ'_g, b_g, b'_g, and δ'', b'' from the change of δ', b'
-    #   since x_k (divided differences: their error, ε, is taken as half their change since
-    #   the last step);
+    # of the last one (δ_k, x_k, δ'_k, b'_k and the estimates below; primes: d/dx):
+    # * a cubic prediction x_g = x_k + Δx, δ'_k Δx + δ''_k Δx²/2 + δ'''_k Δx³/6 = δ − δ_k;
+    # * one evaluation there: δ_g, δ'_g, b_g, b'_g. Divided differences of δ' and b' since
+    #   x_k (h = x_g − x_k), and of those since the last step, give δ''', b''' and δ'', b''
+    #   at x_g (the first differences corrected from their midpoint by h/2 × the third
+    #   derivative; their error ε taken as h² × the third derivative, h² |δ'''| and h² |b'''|);
     # * the root of the quadratic Taylor polynomial of δ at x_g, x* = x_g + Δ with
     #   Δ = −s − δ''s²/(2δ'), s = (δ_g − δ)/δ'_g, and b* = b_g + b'Δ + b''Δ²/2.
-    # Accepted when the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')²) in x and
-    # ε_b'' Δ² + |Δ|³ (|b'| + |b''|) in b (with a safety factor 10), are below _PREDICTED_TOL
-    # (relative in b). P* is then (MD-P) at b*, t* = e^{x*}.
-    # Returns (done, t*, b*, P*, δ'_g, x*, δ''_g, b'_g, b''_g); when not done, the point the
-    # Newton iteration goes on from: (False, t or 0 (none), 0, 0, δ'_g, the length in x of
-    # the step that led to t in the place of x*, δ''_g, b'_g, b''_g).
+    # Accepted when the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')² + |δ'''/δ'|)
+    # in x and ε_b'' Δ² + |Δ|³ (|b'| + |b''| + |b'''|) in b (with a safety factor 10), are
+    # below _PREDICTED_TOL (relative in b); P* is then (MD-P) at b*, t* = e^{x*}.
+    # Writes the estimates (state columns 11, 13–17) when it evaluates. Returns (done, t*, b*,
+    # P*, δ'_g, x*, b'_g); when not done, the point the Newton iteration goes on from:
+    # (False, t or 0 (none), 0, 0, δ'_g, the length in x of the step that led to t, b'_g).
     slope_k = state[9]
     x_k = state[10]
     curvature_k = state[11]
+    third_k = state[17]
     p = (delta - state[5]) / slope_k
-    dx = p - 0.5 * curvature_k * p * p / slope_k
+    dx = p - p * p * (0.5 * curvature_k + third_k * p / 6.0) / slope_k
+    dx = p - dx * dx * (0.5 * curvature_k + third_k * dx / 6.0) / slope_k
     x_g = x_k + dx
-    if not (abs(dx) <= _PREDICTED_STEP_MAX and x_g < x_f):
+    t_g = math.exp(x_g)
+    if not (abs(dx) <= _PREDICTED_STEP_MAX and t_g < t_f and dx != 0.0):
         # too far for one evaluation: Newton starts from the tangent, if not too far either
         if abs(p) < 0.5:
-            return False, state[8] * math.exp(p), 0.0, 0.0, 0.0, abs(p), 0.0, 0.0, 0.0
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    b, d, _, slope, d_b = _md_of_t_d(math.exp(x_g), r_eff, e_star, w, sigma0)
+            return False, state[8] * math.exp(p), 0.0, 0.0, 0.0, abs(p), 0.0
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b, d, _, slope, d_b = _md_of_t_d(t_g, r_eff, e_star, w, sigma0)
     if not slope < 0.0:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     s = (d - delta) / slope
-    h = x_g - x_k
-    curvature = 0.0
-    d2_b = 0.0
-    if h != 0.0:
-        curvature = (slope - slope_k) / h
-        d2_b = (d_b - state[12]) / h
+    h = dx
+    h_k = state[14]
+    curvature_mid = (slope - slope_k) / h
+    d2_b_mid = (d_b - state[12]) / h
+    if h_k != 0.0:
+        third = (curvature_mid - state[15]) / (0.5 * (h + h_k))
+        third_b = (d2_b_mid - state[16]) / (0.5 * (h + h_k))
+        error_curvature = h * h * abs(third)
+        error_d2_b = h * h * abs(third_b)
+    else:  # no second difference yet: δ'' and b'' known to their size only
+        third = 0.0
+        third_b = 0.0
+        error_curvature = abs(curvature_mid)
+        error_d2_b = abs(d2_b_mid)
+    curvature = curvature_mid + 0.5 * h * third
+    d2_b = d2_b_mid + 0.5 * h * third_b
+    state[11] = curvature
+    state[13] = d2_b
+    state[14] = h
+    state[15] = curvature_mid
+    state[16] = d2_b_mid
+    state[17] = third
     step = -s - 0.5 * curvature * s * s / slope
     x = x_g + step
     ratio = curvature / slope
     s2 = s * s
-    a_s = abs(s)
     a_step = abs(step)
-    err_x = 0.5 * abs(curvature - curvature_k) * s2 / -slope + a_s * s2 * (1.0 + ratio * ratio)
-    err_b = 0.5 * abs(d2_b - state[13]) * step * step + a_step**3 * (abs(d_b) + abs(d2_b))
-    if x < x_f and 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
-        t = math.exp(x)
+    err_x = error_curvature * s2 / -slope + abs(s) * s2 * (1.0 + ratio * ratio + abs(third / slope))
+    err_b = error_d2_b * step * step + a_step**3 * (abs(d_b) + abs(d2_b) + abs(third_b))
+    t = math.exp(x)
+    if t < t_f and 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
         b = b + step * (d_b + 0.5 * d2_b * step)
         r = 0.5 * r_eff
         force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
-        return True, t, b, force, slope, x, curvature, d_b, d2_b
-    t = math.exp(x) if x < x_f else 0.0
-    return False, t, 0.0, 0.0, slope, a_step, curvature, d_b, d2_b
+        return True, t, b, force, slope, x, d_b
+    return False, t if t < t_f else 0.0, 0.0, 0.0, slope, a_step, d_b
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
