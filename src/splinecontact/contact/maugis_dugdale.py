@@ -186,22 +186,25 @@ def _md_branch_point(
 ) -> tuple[float, float, float, float, float, float, float, float, float, float]:
     # The contact branch parametrized by t = √(c² − b²)/b: (MD-h) is a quadratic in b, so
     # b(t), δ(t) and P(t) are closed forms (no nested solve). b decreases as t grows.
-    # Returns (b, δ, P) and what the derivative reuses: R, a_k, m, ln m, asinh t,
-    # √(B² + 4A h0) and g = m asinh t − t (5/2 + ln m) (δ = b²/R + a_k b g).
-    r = 0.5 * r_eff
+    # Returns (b, δ, P) and what the derivative reuses: 1/R, a_k, t/m, ln m, asinh t,
+    # √(B² + 4A h0) and g = m asinh t − t (5/2 + ln m) (δ = b²/R + a_k b g). asinh t is
+    # log1p(t + t²/(1 + m)) with m = √(1 + t²) at hand; 1/R multiplies (R = R_eff/2).
+    inv_r = 2.0 / r_eff
     a_k = 4.0 * sigma0 / (_PI * e_star)
     h0 = w / sigma0
-    m = math.sqrt(1.0 + t * t)
-    log_m = 0.5 * math.log1p(t * t)
-    asinh_t = math.asinh(t)
-    big_a = _mt_minus_asinh_of(t, m, asinh_t) / (2.0 * r)
+    tt = t * t
+    m = math.sqrt(1.0 + tt)
+    log_m = 0.5 * math.log1p(tt)
+    asinh_t = math.log1p(t + tt / (1.0 + m))
+    big_a = _mt_minus_asinh_of(t, m, asinh_t) / r_eff
     big_b = a_k * (t * asinh_t - m * log_m)
     root = math.sqrt(big_b * big_b + 4.0 * big_a * h0)
     b = 2.0 * h0 / (big_b + root)
     g = m * asinh_t - t * (2.5 + log_m)
-    delta = b * b / r + a_k * b * g
-    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
-    return b, delta, force, r, a_k, m, log_m, asinh_t, root, g
+    bb_r = b * b * inv_r
+    delta = bb_r + a_k * b * g
+    force = 0.25 * _PI * e_star * bb_r - 2.0 * sigma0 * b * t
+    return b, delta, force, inv_r, a_k, t / m, log_m, asinh_t, root, g
 
 
 @numba.njit(cache=True, nogil=True)
@@ -222,14 +225,14 @@ def _md_of_t_d(
     # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
     # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
     # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
-    b, delta, force, r, a_k, m, log_m, asinh_t, root, g = _md_branch_point(
+    b, delta, force, inv_r, a_k, t_m, log_m, asinh_t, root, g = _md_branch_point(
         t, r_eff, e_star, w, sigma0
     )
-    d_a = t * t / (m * r)
-    d_b = a_k * (asinh_t - t / m * log_m)
+    d_a = t * t_m * inv_r
+    d_b = a_k * (asinh_t - t_m * log_m)
     d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
-    d_g = t / m * asinh_t - 1.5 - log_m - t * t / (m * m)
-    d_delta = (2.0 * b / r + a_k * g) * d_bt + a_k * b * d_g
+    d_g = t_m * asinh_t - 1.5 - log_m - t_m * t_m
+    d_delta = (2.0 * b * inv_r + a_k * g) * d_bt + a_k * b * d_g
     return b, delta, force, t * d_delta, t * d_bt
 
 
@@ -522,9 +525,10 @@ def _md_predicted(
     x_k = state[10]
     curvature_k = state[11]
     third_k = state[17]
-    p = (delta - state[5]) / slope_k
-    dx = p - p * p * (0.5 * curvature_k + third_k * p / 6.0) / slope_k
-    dx = p - dx * dx * (0.5 * curvature_k + third_k * dx / 6.0) / slope_k
+    inv_slope_k = 1.0 / slope_k
+    p = (delta - state[5]) * inv_slope_k
+    dx = p - p * p * (0.5 * curvature_k + third_k * p / 6.0) * inv_slope_k
+    dx = p - dx * dx * (0.5 * curvature_k + third_k * dx / 6.0) * inv_slope_k
     x_g = x_k + dx
     t_g = math.exp(x_g)
     if not (abs(dx) <= _PREDICTED_STEP_MAX and t_g < t_f and dx != 0.0):
@@ -535,14 +539,17 @@ def _md_predicted(
     b, d, _, slope, d_b = _md_of_t_d(t_g, r_eff, e_star, w, sigma0)
     if not slope < 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    s = (d - delta) / slope
+    inv_slope = 1.0 / slope
+    s = (d - delta) * inv_slope
     h = dx
     h_k = state[14]
-    curvature_mid = (slope - slope_k) / h
-    d2_b_mid = (d_b - state[12]) / h
+    inv_h = 1.0 / h
+    curvature_mid = (slope - slope_k) * inv_h
+    d2_b_mid = (d_b - state[12]) * inv_h
     if h_k != 0.0:
-        third = (curvature_mid - state[15]) / (0.5 * (h + h_k))
-        third_b = (d2_b_mid - state[16]) / (0.5 * (h + h_k))
+        inv_mid = 2.0 / (h + h_k)
+        third = (curvature_mid - state[15]) * inv_mid
+        third_b = (d2_b_mid - state[16]) * inv_mid
         error_curvature = h * h * abs(third)
         error_d2_b = h * h * abs(third_b)
     else:  # no second difference yet: δ'' and b'' known to their size only
@@ -558,19 +565,40 @@ def _md_predicted(
     state[15] = curvature_mid
     state[16] = d2_b_mid
     state[17] = third
-    step = -s - 0.5 * curvature * s * s / slope
-    x = x_g + step
-    ratio = curvature / slope
-    s2 = s * s
-    a_step = abs(step)
-    err_x = error_curvature * s2 / -slope + abs(s) * s2 * (1.0 + ratio * ratio + abs(third / slope))
-    err_b = error_d2_b * step * step + a_step**3 * (abs(d_b) + abs(d2_b) + abs(third_b))
-    t = math.exp(x)
-    if t < t_f and 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
-        b = b + step * (d_b + 0.5 * d2_b * step)
-        r = 0.5 * r_eff
-        force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
-        return True, t, b, force, slope, x, d_b
+    x = x_g
+    t = t_g
+    a_step = 0.0
+    for attempt in range(2):
+        if attempt == 1:  # once more from x* (its error, err_x, is small): the same finish
+            b, d, _, slope, d_b = _md_of_t_d(t_g, r_eff, e_star, w, sigma0)
+            if not slope < 0.0:
+                break
+            inv_slope = 1.0 / slope
+            s = (d - delta) * inv_slope
+        ratio = curvature * inv_slope
+        step = -s - 0.5 * ratio * s * s
+        x = x_g + step
+        s2 = s * s
+        a_step = abs(step)
+        err_x = -error_curvature * s2 * inv_slope + abs(s) * s2 * (
+            1.0 + ratio * ratio + abs(third * inv_slope)
+        )
+        err_b = error_d2_b * step * step + a_step**3 * (abs(d_b) + abs(d2_b) + abs(third_b))
+        # t* = t_g e^Δ (the series to Δ³ where the rest is below rounding)
+        if a_step < 1e-4:
+            t = t_g * (1.0 + step * (1.0 + step * (0.5 + step / 6.0)))
+        else:
+            t = math.exp(x)
+        if not t < t_f:
+            break
+        if 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
+            b = b + step * (d_b + 0.5 * d2_b * step)
+            force = 0.25 * _PI * e_star * b * b * (2.0 / r_eff) - 2.0 * sigma0 * b * t
+            return True, t, b, force, slope, x, d_b
+        if err_x > 1e-6 or err_b > 1e-6 * b:
+            break  # far: Newton's own safeguards
+        x_g = x
+        t_g = t
     return False, t if t < t_f else 0.0, 0.0, 0.0, slope, a_step, d_b
 
 
