@@ -33,10 +33,12 @@ __all__ = [
 _PI = math.pi
 
 #: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
-#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
+#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]), the memo of the last evaluation (δ [µm],
 #: R_eff [µm], branch, t, dδ/d ln t [µm], ln t, d²δ/d(ln t)² [µm], db/d ln t [µm],
-#: d²b/d(ln t)² [µm]; 0: not known) that lets the commit of a step reuse its trial evaluation and the next one predict
-#: its root (:func:`_md_predicted`).
+#: d²b/d(ln t)² [µm]) and what those second derivatives are estimated from (the last step in
+#: ln t, the divided differences of dδ/d ln t and db/d ln t over it [µm], d³δ/d(ln t)³ [µm];
+#: 0: not known). The memo lets the commit of a step reuse its trial evaluation and the next
+#: one predict its root (:func:`_md_predicted`).
 N_STATE = 18
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
@@ -427,9 +429,10 @@ def _md_evaluate(
     state: NDArray[np.float64],
 ) -> tuple[float, float, float, float, float, float, float, float, float, float, bool]:
     """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
-    (state columns 2–4, a function of R_eff alone) and returns, after md_evaluate's seven
-    values, what the next evaluation predicts its root from: dδ/d ln t [µm] at t, ln t,
-    d²δ/d(ln t)² [µm] and db/d ln t [µm] (0 when not known)."""
+    (state columns 2–4, a function of R_eff alone) and the derivative estimates of
+    :func:`_md_predicted` (columns 11, 13–17), and returns, after md_evaluate's seven values,
+    what the next evaluation predicts its root from: dδ/d ln t [µm] at t, ln t and db/d ln t
+    [µm] (0 when not known), and whether the estimates were written (else they are stale)."""
     if w == 0.0:
         if delta > 0.0:
             hertz = 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)
@@ -448,9 +451,9 @@ def _md_evaluate(
         state[2] = r_eff
         state[3] = t_f
         state[4] = d_f
-    a_k = 4.0 * sigma0 / (_PI * e_star)
     in_contact = branch == 2.0 and delta >= d_f
     if not in_contact:
+        a_k = 4.0 * sigma0 / (_PI * e_star)
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
             # adhesive zone, gap at x = 0 open
@@ -482,9 +485,7 @@ def _md_evaluate(
             guess = t
             previous = max(x, 1e-300)
         predicted = slope < 0.0  # it evaluated: its estimates of the derivatives are new
-    t, slope, x, d_b = _md_contact_root(
-        delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous
-    )
+    t, slope, x, d_b = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
     return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, d_b, predicted
 
