@@ -93,3 +93,29 @@ def test_a_smooth_loading_is_predicted() -> None:
         memo[:5] = out[2:]
         predicted += memo[14] != 0.0  # the step of the last divided difference
     assert predicted >= 190
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    tabor=st.floats(0.3, 5.0),
+    offsets=st.lists(st.sampled_from([0.0, 1e-3, -1e-3, 5e-2, -5e-2]), min_size=3, max_size=3),
+)
+def test_trials_back_and_forth_as_force_control(tabor: float, offsets: list[float]) -> None:
+    """A force-controlled step tries several δ before committing one, back and forth (a step
+    back by exactly the last one leaves no second difference): each evaluation is still the
+    fresh root."""
+    r_eff = 0.05
+    sigma0 = _sigma_for(tabor, r_eff)
+    _, d_f = md.md_fold(r_eff, E_STAR, W, sigma0)
+    scale = abs(ad.jkr_pull_off_force(r_eff, E_STAR, W))
+    memo = np.zeros(md.N_STATE)
+    for base in np.linspace(2 * abs(d_f), 20 * abs(d_f), 12):
+        for delta in [base * (1.0 + o) for o in offsets] + [base, base * 1.01, base]:
+            fresh = memo.copy()
+            fresh[5:] = 0.0
+            out = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, memo)
+            ref = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, fresh)
+            assert out[2] == ref[2]
+            assert abs(out[0] - ref[0]) <= 1e-12 * (abs(ref[0]) + scale)
+            assert abs(out[1] - ref[1]) <= 1e-12 * ref[1]
+        memo[:5] = out[2:]  # the last trial is committed

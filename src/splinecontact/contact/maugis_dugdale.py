@@ -547,7 +547,7 @@ def _md_predicted(
     inv_h = 1.0 / h
     curvature_mid = (slope - slope_k) * inv_h
     d2_b_mid = (d_b - state[12]) * inv_h
-    if h_k != 0.0:
+    if h_k != 0.0 and h + h_k != 0.0:  # (a step back by exactly the last: no difference)
         inv_mid = 2.0 / (h + h_k)
         third = (curvature_mid - state[15]) * inv_mid
         third_b = (d2_b_mid - state[16]) * inv_mid
