@@ -56,7 +56,6 @@ __all__ = [
     "bind_law",
     "check_law",
     "commit_law",
-    "convex_samples",
     "kernel_material",
     "law_record",
     "law_step",
