@@ -5,7 +5,8 @@ evaluation (a cubic prediction of ln t from the memo of its last evaluation, a s
 Taylor finish, accepted on an a-posteriori error bound; otherwise Newton as before). Each step
 must give what an evaluation without any memo gives (Newton from the committed t), to
 rounding: 1e-12 of the force scale |P| + the line-contact pull-off force, and 1e-12 relative in
-the width, plus what δ, known to rounding, leaves open in t (ln t to 1e-13 |δ|/|dδ/d ln t|);
+the width, plus what the solves' own tolerance (Newton accepts ln t to 1e-12) and δ, known to
+rounding, leave open in t (ln t to 2e-12 + 1e-13 |δ|/|dδ/d ln t|);
 on loading, unloading through the fold (jump-out), reloading, steps of every size. At the fold
 itself δ(t) is flat, so δ fixes t only to ~√(rounding): there (|dδ/d ln t| below 1e-4 |δ|)
 both are held to the attainable 1e-6 of the force scale and of the width scale √(|δ_f| R_eff),
@@ -31,6 +32,31 @@ def _sigma_for(tabor: float, r_eff: float) -> float:
     return tabor / 2.0 * (math.pi * W * E_STAR**2 / (0.5 * r_eff)) ** (1.0 / 3.0)
 
 
+def _assert_same_root(
+    out: tuple[float, ...], ref: tuple[float, ...], delta: float, r_eff: float, sigma0: float
+) -> None:
+    """``out`` (memo) and ``ref`` (fresh) agree to rounding and to what δ leaves open in t."""
+    scale = abs(ad.jkr_pull_off_force(r_eff, E_STAR, W))
+    assert out[2] == ref[2]  # the same branch
+    if out[2] != 2.0:
+        assert out[:2] == ref[:2]
+        return
+    t = ref[3]
+    b, _, _, d_delta, d_b = md._md_of_t_d(t, r_eff, E_STAR, W, sigma0)
+    _, d_f = md.md_fold(r_eff, E_STAR, W, sigma0)
+    if abs(d_delta) < 1e-4 * abs(delta):  # flat: at the fold
+        assert abs(out[0] - ref[0]) <= 1e-6 * (abs(ref[0]) + scale)
+        assert abs(out[1] - ref[1]) <= 1e-6 * math.sqrt(abs(d_f) * r_eff)
+        return
+    # ln t left open: each solve accepts |δ(t) − δ| ≤ 1e-12 |dδ/d ln t| (Newton's test), and δ
+    # is known to rounding
+    open_x = 2e-12 + 1e-13 * abs(delta) / abs(d_delta)
+    d_force = (math.pi * E_STAR * b / r_eff - 2.0 * sigma0 * t) * d_b  # dP/d ln t
+    d_force -= 2.0 * sigma0 * b * t
+    assert abs(out[0] - ref[0]) <= 1e-12 * (abs(ref[0]) + scale) + open_x * abs(d_force)
+    assert abs(out[1] - ref[1]) <= 1e-12 * ref[1] + open_x * math.sqrt(2.0) * abs(d_b)
+
+
 def _path(d_f: float, top: float, steps: int, cycles: int) -> np.ndarray:
     low = 1.5 * d_f if d_f < 0.0 else -0.5 * top
     legs = []
@@ -54,28 +80,13 @@ def test_predicted_root_is_the_fresh_root(
     sigma0 = _sigma_for(tabor, r_eff)
     _, d_f = md.md_fold(r_eff, E_STAR, W, sigma0)
     top = top_factor * abs(d_f)
-    scale = abs(ad.jkr_pull_off_force(r_eff, E_STAR, W))
     memo = np.zeros(md.N_STATE)
     for delta in _path(d_f, top, steps, cycles):
         fresh = memo.copy()
         fresh[5:] = 0.0  # no memo of the last evaluation: Newton from the committed t
         out = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, memo)
         ref = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, fresh)
-        assert out[2] == ref[2]  # the same branch
-        if out[2] == 2.0 and abs(memo[9]) < 1e-4 * abs(delta):  # flat: dδ/d ln t ≈ 0
-            assert abs(out[0] - ref[0]) <= 1e-6 * (abs(ref[0]) + scale)
-            assert abs(out[1] - ref[1]) <= 1e-6 * math.sqrt(abs(d_f) * r_eff)
-        elif out[2] == 2.0:
-            t = ref[3]
-            b, _, _, d_delta, d_b = md._md_of_t_d(t, r_eff, E_STAR, W, sigma0)
-            open_x = 1e-13 * abs(delta) / abs(d_delta)  # ln t left open by δ
-            d_force = (math.pi * E_STAR * b / r_eff - 2.0 * sigma0 * t) * d_b  # dP/d ln t
-            d_force -= 2.0 * sigma0 * b * t
-            tol_force = 1e-12 * (abs(ref[0]) + scale) + open_x * abs(d_force)
-            assert abs(out[0] - ref[0]) <= tol_force
-            assert abs(out[1] - ref[1]) <= 1e-12 * ref[1] + open_x * math.sqrt(2.0) * abs(d_b)
-        else:
-            assert out[:2] == ref[:2]
+        _assert_same_root(out, ref, float(delta), r_eff, sigma0)
         memo[:5] = out[2:]  # committed, as the kernels do
 
 
@@ -107,7 +118,6 @@ def test_trials_back_and_forth_as_force_control(tabor: float, offsets: list[floa
     r_eff = 0.05
     sigma0 = _sigma_for(tabor, r_eff)
     _, d_f = md.md_fold(r_eff, E_STAR, W, sigma0)
-    scale = abs(ad.jkr_pull_off_force(r_eff, E_STAR, W))
     memo = np.zeros(md.N_STATE)
     for base in np.linspace(2 * abs(d_f), 20 * abs(d_f), 12):
         for delta in [base * (1.0 + o) for o in offsets] + [base, base * 1.01, base]:
@@ -115,7 +125,5 @@ def test_trials_back_and_forth_as_force_control(tabor: float, offsets: list[floa
             fresh[5:] = 0.0
             out = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, memo)
             ref = md.md_evaluate(float(delta), r_eff, E_STAR, W, sigma0, fresh)
-            assert out[2] == ref[2]
-            assert abs(out[0] - ref[0]) <= 1e-12 * (abs(ref[0]) + scale)
-            assert abs(out[1] - ref[1]) <= 1e-12 * ref[1]
+            _assert_same_root(out, ref, float(delta), r_eff, sigma0)
         memo[:5] = out[2:]  # the last trial is committed

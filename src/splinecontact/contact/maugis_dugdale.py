@@ -37,8 +37,7 @@ _PI = math.pi
 #: R_eff [µm], branch, t, dδ/d ln t [µm], ln t, d²δ/d(ln t)² [µm], db/d ln t [µm],
 #: d²b/d(ln t)² [µm]) and what those second derivatives are estimated from (the last step in
 #: ln t, the divided differences of dδ/d ln t and db/d ln t over it [µm], d³δ/d(ln t)³ [µm];
-#: 0: not known). The memo lets the commit of a step reuse its trial evaluation and the next
-#: one predict its root (:func:`_md_predicted`).
+#: 0: not known): the commit reuses the trial, the next step predicts (:func:`_md_predicted`).
 N_STATE = 18
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
@@ -334,7 +333,8 @@ def _md_contact_root(
     # δ − δ(hi); hi starts at the fold): a step that leaves it, a non-negative slope (near the
     # fold) or a step of more than 2 bisects or, with no lower end yet, moves 2 left.
     # ``guess`` is the previous step's t or a point predicted from the last evaluation's tangent
-    # (``previous`` is then that prediction's length in ln t), 0 when cold. Returns t, the
+    # (``previous`` is then that prediction's length in ln t, 0 when it is no Newton step: the
+    # convergence test then waits for one), 0 when cold. Returns t, the
     # slope and db/d ln t of the last evaluation, and ln t.
     x_f = math.log(t_f)
     f_f = d_f - delta
@@ -365,7 +365,7 @@ def _md_contact_root(
         step = abs(x_new - x)
         if not (lo < x_new < hi and 0.0 < step <= 2.0):
             x_new = 0.5 * (lo + hi) if lo_known else max(x, hi) - 2.0
-            previous = 1.0
+            previous = 0.0  # not a Newton step
             x = x_new
             continue
         # Quadratic convergence: the next step would be ≈ step³/previous² (C = step/prev²);
@@ -429,15 +429,14 @@ def _md_evaluate(
     state: NDArray[np.float64],
 ) -> tuple[float, float, float, float, float, float, float, float, float, float, bool]:
     """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
-    (state columns 2–4, a function of R_eff alone) and the derivative estimates of
-    :func:`_md_predicted` (columns 11, 13–17), and returns, after md_evaluate's seven values,
-    what the next evaluation predicts its root from: dδ/d ln t [µm] at t, ln t and db/d ln t
-    [µm] (0 when not known), and whether the estimates were written (else they are stale)."""
+    (state columns 2–4, a function of R_eff alone) and :func:`_md_predicted`'s estimates, and
+    returns, after md_evaluate's seven values, dδ/d ln t [µm] at t, ln t and db/d ln t [µm]
+    (0 when not known), and whether the estimates were written (else they are stale)."""
     if w == 0.0:
-        if delta > 0.0:
-            hertz = 0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)
-            return hertz[0], hertz[1], 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
+        f, width = (
+            (0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)) if delta > 0.0 else (0.0, 0.0)
+        )
+        return f, width, 2.0 if delta > 0.0 else 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
@@ -463,7 +462,7 @@ def _md_evaluate(
             # branch does not reach this δ: apart (a jump-out if it was attached)
             return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, False
     guess = state[1] if branch == 2.0 else 0.0
-    previous = 1.0
+    previous = 0.0
     predicted = False
     if (
         branch == 2.0
@@ -483,7 +482,7 @@ def _md_evaluate(
         # so the root's convergence test can use its length).
         if t > 0.0:
             guess = t
-            previous = max(x, 1e-300)
+            previous = x
         predicted = slope < 0.0  # it evaluated: its estimates of the derivatives are new
     t, slope, x, d_b = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
@@ -492,8 +491,7 @@ def _md_evaluate(
 
 #: Largest predicted step in ln t [1] that :func:`_md_predicted` finishes in one evaluation.
 _PREDICTED_STEP_MAX = 0.05
-#: Bound on the error, in ln t and relative in b, of the root :func:`_md_predicted` accepts
-#: (the Newton iteration's own, :func:`_md_contact_root`).
+#: Bound on the error (in ln t, relative in b) of the root :func:`_md_predicted` accepts.
 _PREDICTED_TOL = 1e-14
 
 
@@ -510,18 +508,18 @@ def _md_predicted(
     # The root of δ(x) = δ (x = ln t) on the contact branch in ONE evaluation, from the memo
     # of the last one (δ_k, x_k, δ'_k, b'_k and the estimates below; primes: d/dx):
     # * a cubic prediction x_g = x_k + Δx, δ'_k Δx + δ''_k Δx²/2 + δ'''_k Δx³/6 = δ − δ_k;
-    # * one evaluation there: δ_g, δ'_g, b_g, b'_g. Divided differences of δ' and b' since
-    #   x_k (h = x_g − x_k), and of those since the last step, give δ''', b''' and δ'', b''
-    #   at x_g (the first differences corrected from their midpoint by h/2 × the third
-    #   derivative; their error ε taken as h² × the third derivative, h² |δ'''| and h² |b'''|);
+    # * one evaluation there (δ_g, δ'_g, b_g, b'_g). Divided differences of δ', b' since x_k
+    #   (h = x_g − x_k) and of those since the last step give δ''', b''' and δ'', b'' at x_g
+    #   (corrected from the midpoint by h/2 × the third derivative; error ε: that correction's
+    #   size plus h² × the sizes of the lower derivatives, power laws in t bounding the 4th);
     # * the root of the quadratic Taylor polynomial of δ at x_g, x* = x_g + Δ with
-    #   Δ = −s − δ''s²/(2δ'), s = (δ_g − δ)/δ'_g, and b* = b_g + b'Δ + b''Δ²/2.
-    # Accepted when the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')² + |δ'''/δ'|)
-    # in x and ε_b'' Δ² + |Δ|³ (|b'| + |b''| + |b'''|) in b (with a safety factor 10), are
-    # below _PREDICTED_TOL (relative in b); P* is then (MD-P) at b*, t* = e^{x*}.
+    #   Δ = −s − δ''s²/(2δ'), s = (δ_g − δ)/δ'_g, and b* = b_g + b'Δ + b''Δ²/2; accepted when
+    #   the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')² + |δ'''/δ'|) in x and
+    #   ε_b'' Δ² + |Δ|³ (|b'| + |b''| + |b'''|) in b (times 10), are below _PREDICTED_TOL
+    #   (relative in b), else tried once more from x*; P* is then (MD-P) at b*, t* = e^{x*}.
     # Writes the estimates (state columns 11, 13–17) when it evaluates. Returns (done, t*, b*,
-    # P*, δ'_g, x*, b'_g); when not done, the point the Newton iteration goes on from:
-    # (False, t or 0 (none), 0, 0, δ'_g, the length in x of the step that led to t, b'_g).
+    # P*, δ'_g, x*, b'_g), or where Newton goes on from: (False, t or 0 (none), 0, 0, δ'_g, the
+    # length in x of the Newton step to t (0: no Newton step), b'_g).
     slope_k = state[9]
     x_k = state[10]
     curvature_k = state[11]
@@ -551,8 +549,10 @@ def _md_predicted(
         inv_mid = 2.0 / (h + h_k)
         third = (curvature_mid - state[15]) * inv_mid
         third_b = (d2_b_mid - state[16]) * inv_mid
-        error_curvature = h * h * abs(third)
-        error_d2_b = h * h * abs(third_b)
+        # the correction from the midpoint, not trusted beyond its size, and the fourth
+        # derivatives bounded by the sizes of the lower ones (power laws in t)
+        error_curvature = abs(h) * (0.5 * abs(third) + abs(h) * (abs(curvature_mid) - slope))
+        error_d2_b = abs(h) * (0.5 * abs(third_b) + abs(h) * (abs(d2_b_mid) + abs(d_b)))
     else:  # no second difference yet: δ'' and b'' known to their size only
         third = 0.0
         third_b = 0.0
@@ -600,7 +600,8 @@ def _md_predicted(
             break  # far: Newton's own safeguards
         x_g = x
         t_g = t
-    return False, t if t < t_f else 0.0, 0.0, 0.0, slope, a_step, d_b
+    # (its step is no Newton step: the iteration's convergence test waits for one, length 0)
+    return False, t if t < t_f else 0.0, 0.0, 0.0, slope, 0.0, d_b
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:
