@@ -29,7 +29,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["empty", "grid", "retain_freed_memory"]
+__all__ = ["empty", "grid", "retain_freed_memory", "sparse_zeros"]
 
 #: Arrays of more than this many bytes are memory-mapped (glibc's largest dynamic mmap
 #: threshold on 64-bit systems: smaller blocks are recycled inside the heap).
@@ -46,6 +46,27 @@ def empty(n: int) -> NDArray[np.float64]:
     except (AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX, or no memory
         return np.empty(n)
     return np.frombuffer(buffer, dtype=np.float64)
+
+
+#: Zeroed arrays of at least this many bytes are memory-mapped (numpy's huge-page threshold).
+_SPARSE_MAPPED_BYTES = 4 << 20
+
+
+def sparse_zeros(rows: int, columns: int) -> NDArray[np.float64]:
+    """A zeroed (rows, columns) float64 array for state of which few rows are ever touched.
+
+    From 4 MiB it is a fresh anonymous map (zero pages from the kernel, small pages under the
+    "madvise" policy): a row written costs one small page, where numpy's zeroed array (huge
+    pages advised, or a recycled heap block zeroed whole) costs 2 MiB or the whole array.
+    """
+    nbytes = int(rows) * int(columns) * 8
+    if nbytes < _SPARSE_MAPPED_BYTES:
+        return np.zeros((rows, columns))
+    try:
+        buffer = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
+    except (AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX, or no memory
+        return np.zeros((rows, columns))
+    return np.frombuffer(buffer, dtype=np.float64).reshape(rows, columns)
 
 
 @numba.njit(cache=True, nogil=True)

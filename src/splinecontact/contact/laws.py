@@ -36,6 +36,7 @@ from numba.core import types
 from numba.extending import overload
 from numpy.typing import NDArray
 
+from .._memory import sparse_zeros
 from ..errors import ContactLawError, ParameterError, UnknownContactLawError
 from .adhesion import DMT, JKR, dmt_evaluate, jkr_evaluate
 from .geometry import add_contact_forces
@@ -212,9 +213,30 @@ def bind_law(law: ContactLaw, e_star: float, r_eff_max: float) -> ContactLaw:
     return law.bind(e_star, r_eff_max)
 
 
+@numba.njit(cache=True, nogil=True)
+def convex_samples(
+    slope: NDArray[np.float64], second: NDArray[np.float64], stride: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # pragma: no cover - compiled
+    """The slope [1] and second derivative [1/µm] of a fit at every ``stride``-th point where
+    the second derivative is negative (the convex points), in one pass: what the reach radius
+    of an adhesive law is taken from (the curvature itself is left to numpy, whose power
+    function is not the C library's)."""
+    n = (slope.size + stride - 1) // stride
+    out_slope = np.empty(n)
+    out_second = np.empty(n)
+    m = 0
+    for i in range(0, slope.size, stride):
+        if second[i] < 0.0:
+            out_slope[m] = slope[i]
+            out_second[m] = second[i]
+            m += 1
+    return out_slope[:m], out_second[:m]
+
+
 def new_law_state(law: ContactLaw, n_points: int) -> NDArray[np.float64]:
-    """Zeroed history state: one row per lower-body grid point, ``law.n_state`` columns."""
-    return np.zeros((n_points, law.n_state))
+    """Zeroed history state: one row per lower-body grid point, ``law.n_state`` columns (only
+    the rows of the points that touch are ever written: a sparse array)."""
+    return sparse_zeros(n_points, law.n_state)
 
 
 class Material(NamedTuple):

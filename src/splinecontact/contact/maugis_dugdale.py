@@ -33,10 +33,12 @@ __all__ = [
 _PI = math.pi
 
 #: State columns: branch (0 apart, 1 adhesive zone without contact, 2 contact), t of the last
-#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]) and the memo of the last evaluation (δ [µm],
-#: R_eff [µm], branch, t, dδ/d ln t [µm]) that lets the commit of a step reuse its trial
-#: evaluation and the next one start Newton from a linear prediction.
-N_STATE = 10
+#: step, the fold memo (R_eff [µm], t_f, δ_f [µm]), the memo of the last evaluation (δ [µm],
+#: R_eff [µm], branch, t, dδ/d ln t [µm], ln t, d²δ/d(ln t)² [µm], db/d ln t [µm],
+#: d²b/d(ln t)² [µm]) and what those second derivatives are estimated from (the last step in
+#: ln t, the divided differences of dδ/d ln t and db/d ln t over it [µm], d³δ/d(ln t)³ [µm];
+#: 0: not known): the commit reuses the trial, the next step predicts (:func:`_md_predicted`).
+N_STATE = 18
 
 # --- 2D Maugis–Dugdale (Baney & Hui 1997; Johnson & Greenwood 2008) ---------------------------
 #
@@ -185,22 +187,25 @@ def _md_branch_point(
 ) -> tuple[float, float, float, float, float, float, float, float, float, float]:
     # The contact branch parametrized by t = √(c² − b²)/b: (MD-h) is a quadratic in b, so
     # b(t), δ(t) and P(t) are closed forms (no nested solve). b decreases as t grows.
-    # Returns (b, δ, P) and what the derivative reuses: R, a_k, m, ln m, asinh t,
-    # √(B² + 4A h0) and g = m asinh t − t (5/2 + ln m) (δ = b²/R + a_k b g).
-    r = 0.5 * r_eff
+    # Returns (b, δ, P) and what the derivative reuses: 1/R, a_k, t/m, ln m, asinh t,
+    # √(B² + 4A h0) and g = m asinh t − t (5/2 + ln m) (δ = b²/R + a_k b g). asinh t is
+    # log1p(t + t²/(1 + m)) with m = √(1 + t²) at hand; 1/R multiplies (R = R_eff/2).
+    inv_r = 2.0 / r_eff
     a_k = 4.0 * sigma0 / (_PI * e_star)
     h0 = w / sigma0
-    m = math.sqrt(1.0 + t * t)
-    log_m = 0.5 * math.log1p(t * t)
-    asinh_t = math.asinh(t)
-    big_a = _mt_minus_asinh_of(t, m, asinh_t) / (2.0 * r)
+    tt = t * t
+    m = math.sqrt(1.0 + tt)
+    log_m = 0.5 * math.log1p(tt)
+    asinh_t = math.log1p(t + tt / (1.0 + m))
+    big_a = _mt_minus_asinh_of(t, m, asinh_t) / r_eff
     big_b = a_k * (t * asinh_t - m * log_m)
     root = math.sqrt(big_b * big_b + 4.0 * big_a * h0)
     b = 2.0 * h0 / (big_b + root)
     g = m * asinh_t - t * (2.5 + log_m)
-    delta = b * b / r + a_k * b * g
-    force = 0.25 * _PI * e_star * b * b / r - 2.0 * sigma0 * b * t
-    return b, delta, force, r, a_k, m, log_m, asinh_t, root, g
+    bb_r = b * b * inv_r
+    delta = bb_r + a_k * b * g
+    force = 0.25 * _PI * e_star * bb_r - 2.0 * sigma0 * b * t
+    return b, delta, force, inv_r, a_k, t / m, log_m, asinh_t, root, g
 
 
 @numba.njit(cache=True, nogil=True)
@@ -215,21 +220,21 @@ def _md_of_t(
 @numba.njit(cache=True, nogil=True)
 def _md_of_t_d(
     t: float, r_eff: float, e_star: float, w: float, sigma0: float
-) -> tuple[float, float, float, float]:
-    # (b, δ, P, dδ/d ln t) on the contact branch: _md_of_t with the analytic derivative
+) -> tuple[float, float, float, float, float]:
+    # (b, δ, P, dδ/d ln t, db/d ln t) on the contact branch: _md_of_t with the analytic derivative
     # (same transcendental functions). With A = (m t − asinh t)/(2R), B = a_k (t asinh t − m ln m),
     # A b² + B b = h0 gives b' = −(A' b² + B' b)/(2A b + B), A' = t²/(m R),
     # B' = a_k (asinh t − (t/m) ln m); g = m asinh t − t (5/2 + ln m) has
     # g' = (t/m) asinh t − 3/2 − ln m − t²/m², and δ = b²/R + a_k b g.
-    b, delta, force, r, a_k, m, log_m, asinh_t, root, g = _md_branch_point(
+    b, delta, force, inv_r, a_k, t_m, log_m, asinh_t, root, g = _md_branch_point(
         t, r_eff, e_star, w, sigma0
     )
-    d_a = t * t / (m * r)
-    d_b = a_k * (asinh_t - t / m * log_m)
+    d_a = t * t_m * inv_r
+    d_b = a_k * (asinh_t - t_m * log_m)
     d_bt = -(d_a * b * b + d_b * b) / root  # 2A b + B = √(B² + 4A h0) at the root
-    d_g = t / m * asinh_t - 1.5 - log_m - t * t / (m * m)
-    d_delta = (2.0 * b / r + a_k * g) * d_bt + a_k * b * d_g
-    return b, delta, force, t * d_delta
+    d_g = t_m * asinh_t - 1.5 - log_m - t_m * t_m
+    d_delta = (2.0 * b * inv_r + a_k * g) * d_bt + a_k * b * d_g
+    return b, delta, force, t * d_delta, t * d_bt
 
 
 _LOG_T_MIN = math.log(1e-9)
@@ -282,7 +287,7 @@ def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[fl
         x = (a * fc - c * fa) / (fc - fa)
         if not a < x < c:
             x = 0.5 * (a + c)
-        _, d, _, f = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        _, d, _, f, _ = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
         if abs(f) <= 1e-13 * abs(d):  # flat to rounding: δ is its minimum to ~1e-26 relative
             break
         if f < 0.0:
@@ -322,51 +327,54 @@ def _md_contact_root(
     sigma0: float,
     guess: float,
     previous: float,
-) -> tuple[float, float]:
+) -> tuple[float, float, float, float]:
     # δ(t) decreases on (0, t_f]: (t, dδ/d ln t) with δ(t) = δ, by Newton in x = ln t with the
     # analytic derivative, safeguarded by the bracket lo < x < hi it has seen (δ − δ(lo) ≤ 0 ≤
     # δ − δ(hi); hi starts at the fold): a step that leaves it, a non-negative slope (near the
     # fold) or a step of more than 2 bisects or, with no lower end yet, moves 2 left.
     # ``guess`` is the previous step's t or a point predicted from the last evaluation's tangent
-    # (``previous`` is then that prediction's length in ln t), 0 when cold.
+    # (``previous`` is then that prediction's length in ln t, 0 when it is no Newton step: the
+    # convergence test then waits for one), 0 when cold. Returns t, the
+    # slope and db/d ln t of the last evaluation, and ln t.
     x_f = math.log(t_f)
     f_f = d_f - delta
     if f_f >= 0.0:
-        return t_f, 0.0
+        return t_f, 0.0, x_f, 0.0
     x = math.log(guess) if 0.0 < guess < t_f else x_f - 1.0
     lo = -700.0
     lo_known = False
     hi = x_f
     slope = 0.0
+    d_b = 0.0
     for _ in range(300):
-        _, d, _, slope = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
+        _, d, _, slope, d_b = _md_of_t_d(math.exp(x), r_eff, e_star, w, sigma0)
         f = d - delta
         # converged: δ met to rounding, and the Newton step that remains is negligible too
         # (near the fold |dδ/d ln t| can be ~1e-8 |δ|, where a residual of 1e-14 |δ| is still
         # a step of 1e-6 in ln t)
         if abs(f) <= 1e-14 * abs(delta) and (slope < 0.0 and abs(f) <= 1e-12 * -slope):
-            return math.exp(x), slope
+            return math.exp(x), slope, x, d_b
         if f > 0.0:
             lo = x
             lo_known = True
         else:
             hi = x
         if hi - lo <= 1e-13:
-            return math.exp(x), slope
+            return math.exp(x), slope, x, d_b
         x_new = x - f / slope if slope < 0.0 else x
         step = abs(x_new - x)
         if not (lo < x_new < hi and 0.0 < step <= 2.0):
             x_new = 0.5 * (lo + hi) if lo_known else max(x, hi) - 2.0
-            previous = 1.0
+            previous = 0.0  # not a Newton step
             x = x_new
             continue
         # Quadratic convergence: the next step would be ≈ step³/previous² (C = step/prev²);
         # below 1e-14 the new point is converged and needs no evaluation of its own.
         if step <= 1e-13 or (step < 1e-2 * previous and step**3 <= 1e-14 * previous**2):
-            return math.exp(x_new), slope
+            return math.exp(x_new), slope, x_new, d_b
         previous = step
         x = x_new
-    return math.exp(x), slope
+    return math.exp(x), slope, x, d_b
 
 
 @numba.njit(cache=True, nogil=True)
@@ -403,6 +411,11 @@ def md_evaluate(
         state[7] = out[2]
         state[8] = out[3]
         state[9] = out[7]
+        state[10] = out[8]
+        state[12] = out[9]
+        if not out[10]:  # no new estimates of the derivatives (_md_predicted): not known
+            state[11] = 0.0
+            state[13:N_STATE] = 0.0
     return out[0], out[1], out[2], out[3], out[4], out[5], out[6]
 
 
@@ -414,27 +427,20 @@ def _md_evaluate(
     w: float,
     sigma0: float,
     state: NDArray[np.float64],
-) -> tuple[float, float, float, float, float, float, float, float]:
+) -> tuple[float, float, float, float, float, float, float, float, float, float, bool]:
     """:func:`md_evaluate` without its memo of this evaluation: writes only the fold memo
-    (state columns 2–4, a function of R_eff alone) and returns, after md_evaluate's seven
-    values, dδ/d ln t [µm] at t (0 when not known), the slope the next Newton start uses."""
+    (state columns 2–4, a function of R_eff alone) and :func:`_md_predicted`'s estimates, and
+    returns, after md_evaluate's seven values, dδ/d ln t [µm] at t, ln t and db/d ln t [µm]
+    (0 when not known), and whether the estimates were written (else they are stale)."""
     if w == 0.0:
-        if delta > 0.0:
-            return (
-                0.25 * _PI * e_star * delta,
-                math.sqrt(delta * r_eff),
-                2.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            )
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        f, width = (
+            (0.25 * _PI * e_star * delta, math.sqrt(delta * r_eff)) if delta > 0.0 else (0.0, 0.0)
+        )
+        return f, width, 2.0 if delta > 0.0 else 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False
     branch = state[0]
     h0 = w / sigma0
     if branch == 0.0 and delta < -h0:  # apart and out of range: nothing to compute
-        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0
+        return 0.0, 0.0, 0.0, 0.0, state[2], state[3], state[4], 0.0, 0.0, 0.0, False
     if state[2] == r_eff and r_eff > 0.0:
         t_f = state[3]
         d_f = state[4]
@@ -444,18 +450,20 @@ def _md_evaluate(
         state[2] = r_eff
         state[3] = t_f
         state[4] = d_f
-    a_k = 4.0 * sigma0 / (_PI * e_star)
     in_contact = branch == 2.0 and delta >= d_f
     if not in_contact:
+        a_k = 4.0 * sigma0 / (_PI * e_star)
         force, c, exists = md_noncontact(delta, r_eff, e_star, w, sigma0)
         if exists and delta < -a_k * c * (2.5 - math.log(2.0)):
-            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0  # adhesive zone, gap at x = 0 open
+            # adhesive zone, gap at x = 0 open
+            return force, 0.0, 1.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, False
         if delta < d_f:
             # no zone without contact (below its fold, or it would close the gap) and the contact
             # branch does not reach this δ: apart (a jump-out if it was attached)
-            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0
+            return 0.0, 0.0, 0.0, 0.0, r_eff, t_f, d_f, 0.0, 0.0, 0.0, False
     guess = state[1] if branch == 2.0 else 0.0
-    previous = 1.0
+    previous = 0.0
+    predicted = False
     if (
         branch == 2.0
         and state.size >= N_STATE
@@ -464,15 +472,136 @@ def _md_evaluate(
         and state[8] > 0.0
         and state[9] < 0.0
     ):
-        # The last evaluation was on this contact branch: start from its tangent (a Newton
-        # step from a known point, so the root's convergence test can use its length).
-        step = (delta - state[5]) / state[9]
-        if abs(step) < 0.5:
-            guess = state[8] * math.exp(step)
-            previous = max(abs(step), 1e-300)
-    t, slope = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
+        # The last evaluation was on this contact branch: predict the root from it.
+        done, t, b, force, slope, x, d_b = _md_predicted(
+            delta, t_f, r_eff, e_star, w, sigma0, state
+        )
+        if done:
+            return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, d_b, True
+        # Not converged: Newton goes on from the prediction (a Newton step from a known point,
+        # so the root's convergence test can use its length).
+        if t > 0.0:
+            guess = t
+            previous = x
+        predicted = slope < 0.0  # it evaluated: its estimates of the derivatives are new
+    t, slope, x, d_b = _md_contact_root(delta, t_f, d_f, r_eff, e_star, w, sigma0, guess, previous)
     b, _, force = _md_of_t(t, r_eff, e_star, w, sigma0)
-    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope
+    return force, math.sqrt(2.0) * b, 2.0, t, r_eff, t_f, d_f, slope, x, d_b, predicted
+
+
+#: Largest predicted step in ln t [1] that :func:`_md_predicted` finishes in one evaluation.
+_PREDICTED_STEP_MAX = 0.05
+#: Bound on the error (in ln t, relative in b) of the root :func:`_md_predicted` accepts.
+_PREDICTED_TOL = 1e-14
+
+
+@numba.njit(cache=True, nogil=True)
+def _md_predicted(
+    delta: float,
+    t_f: float,
+    r_eff: float,
+    e_star: float,
+    w: float,
+    sigma0: float,
+    state: NDArray[np.float64],
+) -> tuple[bool, float, float, float, float, float, float]:
+    # The root of δ(x) = δ (x = ln t) on the contact branch in ONE evaluation, from the memo
+    # of the last one (δ_k, x_k, δ'_k, b'_k and the estimates below; primes: d/dx):
+    # * a cubic prediction x_g = x_k + Δx, δ'_k Δx + δ''_k Δx²/2 + δ'''_k Δx³/6 = δ − δ_k;
+    # * one evaluation there (δ_g, δ'_g, b_g, b'_g). Divided differences of δ', b' since x_k
+    #   (h = x_g − x_k) and of those since the last step give δ''', b''' and δ'', b'' at x_g
+    #   (corrected from the midpoint by h/2 × the third derivative; error ε: that correction's
+    #   size plus h² × the sizes of the lower derivatives, power laws in t bounding the 4th);
+    # * the root of the quadratic Taylor polynomial of δ at x_g, x* = x_g + Δ with
+    #   Δ = −s − δ''s²/(2δ'), s = (δ_g − δ)/δ'_g, and b* = b_g + b'Δ + b''Δ²/2; accepted when
+    #   the terms neglected, ≈ ε_δ'' s²/|δ'| + |s|³ (1 + (δ''/δ')² + |δ'''/δ'|) in x and
+    #   ε_b'' Δ² + |Δ|³ (|b'| + |b''| + |b'''|) in b (times 10), are below _PREDICTED_TOL
+    #   (relative in b), else tried once more from x*; P* is then (MD-P) at b*, t* = e^{x*}.
+    # Writes the estimates (state columns 11, 13–17) when it evaluates. Returns (done, t*, b*,
+    # P*, δ'_g, x*, b'_g), or where Newton goes on from: (False, t or 0 (none), 0, 0, δ'_g, the
+    # length in x of the Newton step to t (0: no Newton step), b'_g).
+    slope_k = state[9]
+    x_k = state[10]
+    curvature_k = state[11]
+    third_k = state[17]
+    inv_slope_k = 1.0 / slope_k
+    p = (delta - state[5]) * inv_slope_k
+    dx = p - p * p * (0.5 * curvature_k + third_k * p / 6.0) * inv_slope_k
+    dx = p - dx * dx * (0.5 * curvature_k + third_k * dx / 6.0) * inv_slope_k
+    x_g = x_k + dx
+    t_g = math.exp(x_g)
+    if not (abs(dx) <= _PREDICTED_STEP_MAX and t_g < t_f and dx != 0.0):
+        # too far for one evaluation: Newton starts from the tangent, if not too far either
+        if abs(p) < 0.5:
+            return False, state[8] * math.exp(p), 0.0, 0.0, 0.0, abs(p), 0.0
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b, d, _, slope, d_b = _md_of_t_d(t_g, r_eff, e_star, w, sigma0)
+    if not slope < 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    inv_slope = 1.0 / slope
+    s = (d - delta) * inv_slope
+    h = dx
+    h_k = state[14]
+    inv_h = 1.0 / h
+    curvature_mid = (slope - slope_k) * inv_h
+    d2_b_mid = (d_b - state[12]) * inv_h
+    if h_k != 0.0 and h + h_k != 0.0:  # (a step back by exactly the last: no difference)
+        inv_mid = 2.0 / (h + h_k)
+        third = (curvature_mid - state[15]) * inv_mid
+        third_b = (d2_b_mid - state[16]) * inv_mid
+        # the correction from the midpoint, not trusted beyond its size, and the fourth
+        # derivatives bounded by the sizes of the lower ones (power laws in t)
+        error_curvature = abs(h) * (0.5 * abs(third) + abs(h) * (abs(curvature_mid) - slope))
+        error_d2_b = abs(h) * (0.5 * abs(third_b) + abs(h) * (abs(d2_b_mid) + abs(d_b)))
+    else:  # no second difference yet: δ'' and b'' known to their size only
+        third = 0.0
+        third_b = 0.0
+        error_curvature = abs(curvature_mid)
+        error_d2_b = abs(d2_b_mid)
+    curvature = curvature_mid + 0.5 * h * third
+    d2_b = d2_b_mid + 0.5 * h * third_b
+    state[11] = curvature
+    state[13] = d2_b
+    state[14] = h
+    state[15] = curvature_mid
+    state[16] = d2_b_mid
+    state[17] = third
+    x = x_g
+    t = t_g
+    a_step = 0.0
+    for attempt in range(2):
+        if attempt == 1:  # once more from x* (its error, err_x, is small): the same finish
+            b, d, _, slope, d_b = _md_of_t_d(t_g, r_eff, e_star, w, sigma0)
+            if not slope < 0.0:
+                break
+            inv_slope = 1.0 / slope
+            s = (d - delta) * inv_slope
+        ratio = curvature * inv_slope
+        step = -s - 0.5 * ratio * s * s
+        x = x_g + step
+        s2 = s * s
+        a_step = abs(step)
+        err_x = -error_curvature * s2 * inv_slope + abs(s) * s2 * (
+            1.0 + ratio * ratio + abs(third * inv_slope)
+        )
+        err_b = error_d2_b * step * step + a_step**3 * (abs(d_b) + abs(d2_b) + abs(third_b))
+        # t* = t_g e^Δ (the series to Δ³ where the rest is below rounding)
+        if a_step < 1e-4:
+            t = t_g * (1.0 + step * (1.0 + step * (0.5 + step / 6.0)))
+        else:
+            t = math.exp(x)
+        if not t < t_f:
+            break
+        if 10.0 * err_x <= _PREDICTED_TOL and 10.0 * err_b <= _PREDICTED_TOL * b:
+            b = b + step * (d_b + 0.5 * d2_b * step)
+            force = 0.25 * _PI * e_star * b * b * (2.0 / r_eff) - 2.0 * sigma0 * b * t
+            return True, t, b, force, slope, x, d_b
+        if err_x > 1e-6 or err_b > 1e-6 * b:
+            break  # far: Newton's own safeguards
+        x_g = x
+        t_g = t
+    # (its step is no Newton step: the iteration's convergence test waits for one, length 0)
+    return False, t if t < t_f else 0.0, 0.0, 0.0, slope, 0.0, d_b
 
 
 def tabor_parameter(r_eff: float, e_star: float, w: float, sigma0: float) -> float:

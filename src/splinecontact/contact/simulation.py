@@ -17,7 +17,7 @@ from ._arguments import MAX_STEPS, check_model_arguments, check_reserved, run_pa
 from .geometry import check_bodies, contact_geometry
 from .interaction import InteractionSettings
 from .kernel import run_loading
-from .laws import ContactLaw, Hertz, bind_law, law_record
+from .laws import ContactLaw, Hertz, bind_law, convex_samples, law_record
 from .streamed import STREAM_MIN_POINTS
 
 if TYPE_CHECKING:
@@ -295,8 +295,8 @@ def _reach_radius(lower: Profile, fits: tuple[SplineFit, SplineFit | None]) -> f
     for fit in fits:
         if fit is None:
             continue
-        slope = fit.slope[::8]
-        kappa = -fit.second_derivative[::8] / (1.0 + slope * slope) ** 1.5
+        slope, second = convex_samples(fit.slope, fit.second_derivative, 8)
+        kappa = -second / (1.0 + slope * slope) ** 1.5
         convex = kappa[kappa > 0.0]
         if convex.size:
             radii.append(1.0 / float(np.percentile(convex, 10.0)))
