@@ -242,6 +242,54 @@ _LOG_T_MAX = math.log(1e9)
 
 
 @numba.njit(cache=True, nogil=True)
+def _md_fold_flat(
+    x0: float, x1: float, r_eff: float, e_star: float, w: float, sigma0: float
+) -> tuple[float, float]:
+    # dδ/d ln t was ≤ 0 at every bracket point up to the largest t: δ falls all the way to
+    # b → 0 (DMT-like), or its fold is so shallow (λ just below ≈ 0.5: δ rises by ~1e-11 |δ|
+    # after it, over a few e-folds) that the expanding bracket stepped over it. The smallest δ
+    # on a grid of 1/4 in x = ln t over [x0, x1], then golden-section search between its grid
+    # neighbours (δ is unimodal there), to 1e-6 in ln t: δ is flat at its minimum, so δ_f is
+    # then its minimum to rounding.
+    n = max(int(math.ceil((x1 - x0) / 0.25)), 2)
+    h = (x1 - x0) / n
+    best = n
+    d_best = _md_of_t(math.exp(x1), r_eff, e_star, w, sigma0)[1]
+    for i in range(n):
+        d = _md_of_t(math.exp(x0 + i * h), r_eff, e_star, w, sigma0)[1]
+        if d < d_best:
+            best = i
+            d_best = d
+    if best == n:
+        return math.exp(x1), d_best
+    a = x0 + max(best - 1, 0) * h
+    c = x0 + (best + 1) * h
+    ratio = 0.5 * (math.sqrt(5.0) - 1.0)
+    p = c - ratio * (c - a)
+    q = a + ratio * (c - a)
+    d_p = _md_of_t(math.exp(p), r_eff, e_star, w, sigma0)[1]
+    d_q = _md_of_t(math.exp(q), r_eff, e_star, w, sigma0)[1]
+    for _ in range(80):
+        if c - a < 1e-6:
+            break
+        if d_p <= d_q:
+            c = q
+            q = p
+            d_q = d_p
+            p = c - ratio * (c - a)
+            d_p = _md_of_t(math.exp(p), r_eff, e_star, w, sigma0)[1]
+        else:
+            a = p
+            p = q
+            d_p = d_q
+            q = a + ratio * (c - a)
+            d_q = _md_of_t(math.exp(q), r_eff, e_star, w, sigma0)[1]
+    if d_p <= d_q:
+        return math.exp(p), d_p
+    return math.exp(q), d_q
+
+
+@numba.njit(cache=True, nogil=True)
 def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[float, float]:
     # (t_f, δ_f): the minimum of δ(t), where dδ/d ln t changes sign from − to + (δ falls then
     # rises). The fold's t depends on Maugis' λ alone, t_f ≈ 2.03/λ for λ ≫ 1: the sign
@@ -274,11 +322,10 @@ def _md_fold_t(r_eff: float, e_star: float, w: float, sigma0: float) -> tuple[fl
             a = max(centre - width, lo)
             fa = _md_of_t_d(math.exp(a), r_eff, e_star, w, sigma0)[3]
         else:  # fc ≤ 0: the fold is right of c
+            if c >= hi:
+                return _md_fold_flat(a, hi, r_eff, e_star, w, sigma0)
             a = c
             fa = fc
-            if a >= hi:
-                t_hi = math.exp(hi)
-                return t_hi, _md_of_t(t_hi, r_eff, e_star, w, sigma0)[1]
             c = min(centre + width, hi)
             fc = _md_of_t_d(math.exp(c), r_eff, e_star, w, sigma0)[3]
     side = 0
