@@ -2,8 +2,9 @@
 
 With SAD's Hertz law (eq. 10) the coupled contacts of :mod:`.interaction` are a linear
 complementarity problem, solved by the constrained conjugate gradients of Polonsky & Keer
-(Wear 231 (1999) 206–219). With another law (:mod:`.laws`: JKR, DMT, Maugis–Dugdale, the
-elastic–plastic law) every contact's load is its law's force at its effective approach,
+(Wear 231 (1999) 206–219). With another law (:mod:`splinecontact.contact.laws`: JKR, DMT,
+Maugis–Dugdale, the elastic–plastic law) every contact's load is its law's force at its
+effective approach,
 
     P_i = f_i(δ_i^eff; state_i),   δ^eff = δ − e_z (C P),
 
