@@ -10,8 +10,8 @@ effective approach,
 
 with C the coupling operator of :mod:`.interaction` without eq. 10's local compliance (the
 other contacts, the images and the self term c P_i (ln(L_p/(π a_i)) − 3/2)). This module holds
-the law side of the solve; the loop that applies the operator lives with it in
-:mod:`.interaction_kernel` (``_law_solve``):
+the solve (``_law_solve``, called by :mod:`.interaction_kernel`'s step loop, with the operator
+and constrained solve of :mod:`.interaction_operator`):
 
 * **Newton with the law's tangent.** At the loads P^m: δ^eff = δ − C P^m, f_i and the tangent
   stiffness k_i = f_i′ (forward difference of the trial law, :func:`law_evaluate`). The law is
