@@ -250,3 +250,43 @@ def test_plastic_memory_survives_sliding_back(rough) -> None:  # type: ignore[no
     assert result.tangential_displacement[15] == 0.0 and result.tangential_displacement[12] > 0
     assert unloaded < 0.9 * virgin
     assert back == pytest.approx(unloaded, rel=1e-6)
+
+
+@pytest.mark.parametrize("law", LAWS, ids=lambda law: type(law).__name__)
+def test_driver_on_a_normal_cycle_is_the_normal_path(rough, law) -> None:  # type: ignore[no-untyped-def]
+    """The sliding driver on a normal cycle (loading, unloading into tension and apart,
+    reloading), with the widths converged at every step, carries each law's history as the
+    normal path does: the same contacts and F_N to the tolerance of the contact-level solves
+    (JKR's hysteresis, the plastic memory and the releases of dropped contacts included)."""
+    from splinecontact.contact.interaction_slide import run_interacting_path
+    from splinecontact.contact.laws import bind_law
+    from splinecontact.contact.simulation import _reach_radius, spline_fits
+
+    lower, upper = rough
+    top = _top(lower, upper)
+    segments = [
+        Segment(normal=top, steps=6),
+        Segment(normal=-0.3 * top, steps=6),
+        Segment(normal=top, steps=6),
+    ]
+    settings = InteractionSettings(tol=1e-11, width="hertz", width_iterations=100, width_tol=1e-12)
+    today = simulate(
+        lower, upper, e_star=E_STAR, mu0=0.0, law=law, interaction=settings, path=segments,
+        diagnostics=False,
+    )  # fmt: skip
+    fits = spline_fits(lower, upper, alpha=today.parameters["alpha"], x0=today.parameters["x0"])
+    bound = bind_law(
+        law, E_STAR, _reach_radius(lower, fits) if getattr(law, "needs_radius", False) else 0.0
+    )
+    curves, _ = run_interacting_path(
+        lower, upper, segments, fits, settings, e_star=E_STAR, g_star=today.parameters["g_star"],
+        mu0=0.0, law=bound,
+    )  # fmt: skip
+    scale = float(np.abs(today.normal_force).max())
+    assert today.n_contacts.max() >= 2
+    np.testing.assert_allclose(curves["displacement"], today.displacement, atol=1e-15 * top)
+    np.testing.assert_array_equal(curves["n_contacts"], today.n_contacts)
+    np.testing.assert_allclose(curves["normal_force"], today.normal_force, atol=1e-6 * scale)
+    np.testing.assert_allclose(
+        curves["contact_area"], today.contact_area, atol=1e-6 * today.contact_area.max()
+    )
