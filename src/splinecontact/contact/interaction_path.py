@@ -9,7 +9,8 @@ only, so unloading retraces loading; the tangential springs (eqs. 11–13) follo
 increments as in the monotone loading, with their history.
 
 A path with tangential sliding (``tangential=``) or force control (``normal_force=``) is
-followed by :mod:`.interaction_slide` (one coupled solve per step on the shifted geometry);
+followed by :mod:`.interaction_slide` (one coupled solve per step on the shifted geometry,
+with every contact law: its history per lower grid point carried across the steps);
 a path of normal displacement segments only runs here, unchanged.
 """
 
@@ -126,9 +127,7 @@ def _path_parameters(segments: tuple[Segment, ...], settings: InteractionSetting
     }
 
 
-def _law_parameters(
-    segments: tuple[Segment, ...], settings: InteractionSettings, law: Any
-) -> dict:
+def _law_parameters(segments: tuple[Segment, ...], settings: InteractionSettings, law: Any) -> dict:
     """The parameters of :func:`_path_parameters` and, with a law other than Hertz, the law's."""
     extra = _path_parameters(segments, settings)
     if law is not None and law.code != 0:

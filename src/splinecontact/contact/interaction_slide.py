@@ -33,6 +33,10 @@ configuration (u_T, δ_N) of the upper body:
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
   side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
+* **Contact laws** (:mod:`.interaction_laws`): the history is kept per lower-body grid point
+  (it follows the lower body under a shift); every evaluation, force-control trials too,
+  continues the committed state on a copy of it, which only the accepted step keeps (one
+  commit per step, at its own configuration). A_S is the sum of the laws' widths.
 * **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
@@ -222,7 +226,6 @@ class _Driver:
         # the last δ_N [µm] found beyond the model's validity (force control)
         self.beyond: float | None = None
         self.period = (1 if settings.periodic else 2) * self.n * self.dx
-        # a law other than Hertz and its committed history (one row per lower grid point)
         self.law = law if law is not None and law.code != 0 else None
         self.law_state = None if self.law is None else np.zeros((self.n, self.law.n_state))
         self.law_reach = 0.0 if self.law is None else float(self.law.reach)
@@ -324,10 +327,8 @@ class _Driver:
         # two-step loading (the previous δ_N from contact-free, then d) whose first step does
         # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
         # the history of the widths (unloading in force needed more δ_N, not less)
-        # With a law, every evaluation continues the committed state (its history is then
-        # committed once, at the step's own configuration; a two-step loading would commit it
-        # at the previous δ_N too and never let go of the committed contacts it drops): the
-        # trials solve on a copy of the committed history, the committed step keeps it.
+        # with a law every evaluation continues the committed state (a two-step loading would
+        # commit at the previous δ_N too, and keep the dropped contacts' branches)
         carry = {} if tol is not None and self.law is None else dict(self.carry)
         history = None if self.law_state is None else self.law_state.copy()
         solved = self._solve(
@@ -352,9 +353,7 @@ class _Driver:
             s.ex[:n_c] = record.normal_x[order]
             s.ez[:n_c] = record.normal_z[order]
             s.xc[:n_c] = record.x[order]
-            s.width[:n_c] = np.sqrt(
-                np.maximum(record.overlap[order], 0.0) * record.effective_radius[order]
-            )
+            s.width[:n_c] = np.sqrt(np.maximum(record.overlap * record.effective_radius, 0)[order])
         window = self.window(u, d) if held is None else held[1]
         f_n, f_t, area, fn_n, fn_t, tilted, slipping, work = _spring_step(
             u - self.u, d - self.d, n_c, window, self.g_star, self.mu0, commit, self.springs, s
@@ -541,8 +540,7 @@ def run_interacting_path(
     record_steps : array of int, optional
         Steps at which to keep the loaded contacts.
     law : ContactLaw, optional
-        The local normal law, bound (:func:`splinecontact.contact.laws.bind_law`); ``None`` or
-        Hertz: eq. 10.
+        The normal law, bound (:func:`splinecontact.contact.laws.bind_law`); ``None``: eq. 10.
 
     Returns
     -------
@@ -557,9 +555,7 @@ def run_interacting_path(
             "path: stop_force ends a normal loading only; use a normal_force segment instead"
         )
     extent = max([abs(s.normal) for s in segments if s.normal is not None] + [lower.dx])
-    driver = _Driver(
-        lower, fits, settings, extent, e_star=e_star, g_star=g_star, mu0=mu0, law=law
-    )
+    driver = _Driver(lower, fits, settings, extent, e_star=e_star, g_star=g_star, mu0=mu0, law=law)
     total = 1 + sum(s.steps for s in segments)
     table = np.zeros((total, 2 + len(_NAMES)))
     target = np.full(total, np.nan)
