@@ -33,10 +33,9 @@ configuration (u_T, δ_N) of the upper body:
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
   side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
-* **Contact laws** (:mod:`.interaction_laws`): the history is kept per lower-body grid point
-  (it follows the lower body under a shift); every evaluation, force-control trials too,
-  continues the committed state on a copy of it, which only the accepted step keeps (one
-  commit per step, at its own configuration). A_S is the sum of the laws' widths.
+* **Contact laws**: history per lower grid point (it follows the lower body under a shift);
+  every evaluation, force-control trials too, continues the committed state on a copy of it,
+  kept by the accepted step only (one commit per step). A_S: the sum of the laws' widths.
 * **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
@@ -102,6 +101,8 @@ MAX_FALLS = 8
 FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
+
+_LAW_HINT = "a point's law history may be another summit's (elastic-plastic: F jumps at δ_max)"
 
 #: A held contact set: grid points [1] and the springs' migration window [cells].
 Held = tuple[NDArray[np.int64], int]
@@ -274,9 +275,10 @@ class _Driver:
                 settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
                 carry=carry, law=self.law, law_state=law_state,
             )  # fmt: skip
-        except NoConvergenceError:
+        except NoConvergenceError as error:
             if settings.width_iterations == self.given.width_iterations:
-                raise
+                hint = "" if self.law is None else f" (after u_T = {self.u:.6g} µm; {_LAW_HINT})"
+                raise NoConvergenceError(f"{error}{hint}") from error
             if law_state is not None:  # the failed solve may have committed rows: start again
                 law_state[:] = self.law_state
             return self._solve(geometry, self.given, tol, held, carry, law_state)
@@ -327,8 +329,7 @@ class _Driver:
         # two-step loading (the previous δ_N from contact-free, then d) whose first step does
         # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
         # the history of the widths (unloading in force needed more δ_N, not less)
-        # with a law every evaluation continues the committed state (a two-step loading would
-        # commit at the previous δ_N too, and keep the dropped contacts' branches)
+        # with a law every evaluation continues the committed state (one commit per step)
         carry = {} if tol is not None and self.law is None else dict(self.carry)
         history = None if self.law_state is None else self.law_state.copy()
         solved = self._solve(
