@@ -360,6 +360,7 @@ def interacting_loading(
     contact_set: NDArray[np.bool_] | None = None,
     mesh: Any = None,
     carry: dict[str, Any] | None = None,
+    law_state: NDArray[np.float64] | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -395,6 +396,10 @@ def interacting_loading(
         In and out: the state after the last step of a previous call (loads, widths, mesh
         displacement, candidates by grid point). Given non-empty, step 0 is that state (not
         solved again) and the steps run from 1; replaced by the state after the last step.
+    law_state : array of float, optional
+        In and out, with a law other than Hertz: the law's history, one row per lower grid
+        point (shape (n_points, law.n_state)), committed in place at every solved step; zeroed
+        when not given.
 
     Returns
     -------
@@ -458,7 +463,8 @@ def interacting_loading(
     law_args = (
         (law.code, law.kernel_parameters(e_star), float(e_star)) if lawful else
         (0, np.array([float(e_star)]), float(e_star)),
-        np.zeros((n, law.n_state)) if lawful else np.zeros((1, 0)),
+        (np.zeros((n, law.n_state)) if law_state is None else law_state) if lawful else
+        np.zeros((1, 0)),
         float(law.reach) if lawful else 0.0,
     )  # fmt: skip
 

@@ -9,7 +9,8 @@ only, so unloading retraces loading; the tangential springs (eqs. 11–13) follo
 increments as in the monotone loading, with their history.
 
 A path with tangential sliding (``tangential=``) or force control (``normal_force=``) is
-followed by :mod:`.interaction_slide` (one coupled solve per step on the shifted geometry);
+followed by :mod:`.interaction_slide` (one coupled solve per step on the shifted geometry,
+with every contact law: its history per lower grid point carried across the steps);
 a path of normal displacement segments only runs here, unchanged.
 """
 
@@ -22,7 +23,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import LoadPathError, ParameterError
+from ..errors import LoadPathError
 from ..profile import Profile
 from ..results import SimulationResult
 from ..spline import SplineFit
@@ -76,22 +77,16 @@ def simulate_interacting_path(
     law: Any = None,
 ) -> SimulationResult:
     """``simulate(..., path=..., interaction=True)`` (units as there; ``law`` a bound contact
-    law, normal paths only with a law other than Hertz)."""
+    law, on every path)."""
     from .simulation import _record_steps, build_result, spline_fits
 
     segments = path_segments(path, steps, final_displacement)
     check_bodies(lower, upper)
     fits = spline_fits(lower, upper, alpha=alpha, x0=x0)
     if any(_moves_or_holds(s) for s in segments):
-        if law is not None and law.code != 0:
-            raise ParameterError(
-                f"interaction=True with the law {type(law).__name__} follows normal, "
-                "displacement-controlled paths only (loading, unloading, reloading); this path "
-                "slides or holds a normal force — use the Hertz law, or interaction=False"
-            )
         return _sliding_result(
             lower, upper, segments, fits, settings, record_contacts, e_star=e_star,
-            g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
+            g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, law=law,
         )  # fmt: skip
     displacement = normal_path_displacements(segments)
     total = displacement.size - 1
@@ -106,11 +101,7 @@ def simulate_interacting_path(
         geometry, e_star=e_star, g_star=g_star, mu0=mu0, n_points=lower.n_points,
         settings=settings, record_steps=record_steps, law=law,
     )  # fmt: skip
-    extra = _path_parameters(segments, settings)
-    if law is not None and law.code != 0:
-        from .laws import law_record
-
-        extra.update(law_record(law))
+    extra = _law_parameters(segments, settings, law)
     return build_result(
         lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
         e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0, extra=extra,
@@ -136,6 +127,16 @@ def _path_parameters(segments: tuple[Segment, ...], settings: InteractionSetting
     }
 
 
+def _law_parameters(segments: tuple[Segment, ...], settings: InteractionSettings, law: Any) -> dict:
+    """The parameters of :func:`_path_parameters` and, with a law other than Hertz, the law's."""
+    extra = _path_parameters(segments, settings)
+    if law is not None and law.code != 0:
+        from .laws import law_record
+
+        extra.update(law_record(law))
+    return extra
+
+
 def _sliding_result(
     lower: Profile,
     upper: Profile | Literal["flat"],
@@ -149,6 +150,7 @@ def _sliding_result(
     mu0: float,
     alpha: float,
     x0: float,
+    law: Any = None,
 ) -> SimulationResult:
     """A path with tangential or force-controlled segments (:mod:`.interaction_slide`)."""
     from .interaction_slide import run_interacting_path
@@ -157,7 +159,7 @@ def _sliding_result(
     total = sum(s.steps for s in segments)
     curves, contacts = run_interacting_path(
         lower, upper, segments, fits, settings, e_star=e_star, g_star=g_star, mu0=mu0,
-        record_steps=_record_steps(record_contacts, total),
+        record_steps=_record_steps(record_contacts, total), law=law,
     )  # fmt: skip
     rigid = contact_geometry(
         lower, upper, steps=1, final_displacement=lower.dx, final_displacement_factor=0.2,
@@ -167,5 +169,5 @@ def _sliding_result(
     return build_result(
         lower, upper, fits, curves, contacts, steps=total, final_displacement_factor=0.2,
         e_star=e_star, g_star=g_star, mu0=mu0, alpha=alpha, x0=x0,
-        extra=_path_parameters(segments, settings),
+        extra=_law_parameters(segments, settings, law),
     )  # fmt: skip

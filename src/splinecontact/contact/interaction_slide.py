@@ -33,6 +33,9 @@ configuration (u_T, δ_N) of the upper body:
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
   side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
+* **Contact laws**: history per lower grid point (it follows the lower body under a shift);
+  every evaluation, force-control trials too, continues the committed state on a copy of it,
+  kept by the accepted step only (one commit per step). A_S: the sum of the laws' widths.
 * **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
@@ -98,6 +101,8 @@ MAX_FALLS = 8
 FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
+
+_LAW_HINT = "a point's law history may be another summit's (elastic-plastic: F jumps at δ_max)"
 
 #: A held contact set: grid points [1] and the springs' migration window [cells].
 Held = tuple[NDArray[np.int64], int]
@@ -189,6 +194,7 @@ class _Driver:
         e_star: float,
         g_star: float,
         mu0: float,
+        law: Any = None,
     ) -> None:
         self.geo = _prepare(lower, fits[0], fits[1])
         self.n = lower.n_points
@@ -221,6 +227,9 @@ class _Driver:
         # the last δ_N [µm] found beyond the model's validity (force control)
         self.beyond: float | None = None
         self.period = (1 if settings.periodic else 2) * self.n * self.dx
+        self.law = law if law is not None and law.code != 0 else None
+        self.law_state = None if self.law is None else np.zeros((self.n, self.law.n_state))
+        self.law_reach = 0.0 if self.law is None else float(self.law.reach)
 
     @staticmethod
     def _scratch(capacity: int) -> Scratch:
@@ -232,7 +241,7 @@ class _Driver:
 
     def columns(self, u: float, d: float) -> tuple[NDArray[np.float64], ...]:
         """The candidates at shift u whose gap can close by δ_N = d plus the reach."""
-        limit = (1.0 + self.settings.reach_fraction) * max(d, self.extent)
+        limit = (1.0 + self.settings.reach_fraction) * max(d, self.extent) + self.law_reach
         cached = self._columns
         if cached is not None and cached[0] == u and cached[1] >= limit:
             return cached[2]
@@ -253,22 +262,26 @@ class _Driver:
         tol: float | None,
         held: NDArray[np.bool_] | None,
         carry: dict[str, Any],
+        law_state: NDArray[np.float64] | None = None,
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
         """The coupled step (:func:`.interaction.interacting_loading`) continuing ``carry``,
         repeated with the given settings' width updates if the width loop made it fail; ``None``
         where a contact grew too wide for the period (the model's validity, see
-        :func:`.interaction._check_finite`)."""
+        :func:`.interaction._check_finite`); ``law_state`` the law's history (in and out)."""
         chosen = settings if tol is None else dataclasses.replace(settings, tol=tol)
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
                 settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
-                carry=carry,
+                carry=carry, law=self.law, law_state=law_state,
             )  # fmt: skip
-        except NoConvergenceError:
+        except NoConvergenceError as error:
             if settings.width_iterations == self.given.width_iterations:
-                raise
-            return self._solve(geometry, self.given, tol, held, carry)
+                hint = "" if self.law is None else f" (after u_T = {self.u:.6g} µm; {_LAW_HINT})"
+                raise NoConvergenceError(f"{error}{hint}") from error
+            if law_state is not None:  # the failed solve may have committed rows: start again
+                law_state[:] = self.law_state
+            return self._solve(geometry, self.given, tol, held, carry, law_state)
         except ParameterError as error:
             if "left its validity" not in str(error):
                 raise
@@ -316,9 +329,11 @@ class _Driver:
         # two-step loading (the previous δ_N from contact-free, then d) whose first step does
         # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
         # the history of the widths (unloading in force needed more δ_N, not less)
-        carry = {} if tol is not None else dict(self.carry)
+        # with a law every evaluation continues the committed state (one commit per step)
+        carry = {} if tol is not None and self.law is None else dict(self.carry)
+        history = None if self.law_state is None else self.law_state.copy()
         solved = self._solve(
-            geometry, self.settings if tol is None else self.given, tol, mask, carry
+            geometry, self.settings if tol is None else self.given, tol, mask, carry, history
         )
         if solved is None or not self._valid(solved[1]):
             # beyond validity: an infinite F_N (above any force target)
@@ -339,7 +354,7 @@ class _Driver:
             s.ex[:n_c] = record.normal_x[order]
             s.ez[:n_c] = record.normal_z[order]
             s.xc[:n_c] = record.x[order]
-            s.width[:n_c] = np.sqrt(record.overlap[order] * record.effective_radius[order])
+            s.width[:n_c] = np.sqrt(np.maximum(record.overlap * record.effective_radius, 0)[order])
         window = self.window(u, d) if held is None else held[1]
         f_n, f_t, area, fn_n, fn_t, tilted, slipping, work = _spring_step(
             u - self.u, d - self.d, n_c, window, self.g_star, self.mu0, commit, self.springs, s
@@ -350,9 +365,13 @@ class _Driver:
             int(curves["n_contact_patches"][1]), int(curves["interaction_iterations"][1]),
             int(curves["reach_exceeded"][1]),
         )  # fmt: skip
+        if self.law is not None:  # A_S: the sum of the laws' widths (as in the normal path)
+            values = (*values[:2], float(curves["contact_area"][1]), *values[3:])
         if commit:
             self.u, self.d = u, d
             self.carry = carry
+            if history is not None:
+                self.law_state = history
         return values, record
 
 
@@ -501,6 +520,7 @@ def run_interacting_path(
     g_star: float,
     mu0: float,
     record_steps: NDArray[np.int64] | None = None,
+    law: Any = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Follow a load path with interacting contacts (the module docstring).
 
@@ -520,6 +540,8 @@ def run_interacting_path(
         μ0 [1] (eqs. 12–13).
     record_steps : array of int, optional
         Steps at which to keep the loaded contacts.
+    law : ContactLaw, optional
+        The normal law, bound (:func:`splinecontact.contact.laws.bind_law`); ``None``: eq. 10.
 
     Returns
     -------
@@ -534,7 +556,7 @@ def run_interacting_path(
             "path: stop_force ends a normal loading only; use a normal_force segment instead"
         )
     extent = max([abs(s.normal) for s in segments if s.normal is not None] + [lower.dx])
-    driver = _Driver(lower, fits, settings, extent, e_star=e_star, g_star=g_star, mu0=mu0)
+    driver = _Driver(lower, fits, settings, extent, e_star=e_star, g_star=g_star, mu0=mu0, law=law)
     total = 1 + sum(s.steps for s in segments)
     table = np.zeros((total, 2 + len(_NAMES)))
     target = np.full(total, np.nan)
