@@ -27,11 +27,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from _hostile import good_x3p, npy_bytes, x3p_xml
 from splinecontact import SplineContactError
+from splinecontact.errors import NoDataError
 from splinecontact.generate import weierstrass_mandelbrot
 from splinecontact.io import read_profile, write_profile
 from splinecontact.preprocess import Preprocessing
@@ -296,6 +297,7 @@ def _hypothesis_check(tmp_path: Path, suffix: str, data: bytes, options: dict[st
     max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
 @given(table=_tables, unit=st.sampled_from([None, "um"]), spacing=st.sampled_from([None, 1.0]))
+@example(table=([], ",", [["bad"], ["0.0"]], "\n", "utf-8"), unit=None, spacing=None)
 def test_any_text_table_gives_profile_or_specific_error(
     tmp_path: Path,
     table: tuple[list[str], str, list[list[str]], str, str],
@@ -320,3 +322,12 @@ def test_any_bytes_give_profile_or_specific_error(
     tmp_path: Path, blob: bytes, prefix: bytes, suffix: str
 ) -> None:
     _hypothesis_check(tmp_path, suffix, prefix + blob, {"unit": "um"})
+
+
+@pytest.mark.parametrize("title", ["bad", "valid"])
+def test_a_lone_flag_column_is_no_data(tmp_path: Path, title: str) -> None:
+    """A table whose only column is a validity flag has no heights (was an IndexError)."""
+    path = tmp_path / "flag.csv"
+    path.write_text(f"{title}\n0.0\n1.0\n")
+    with pytest.raises(NoDataError, match="validity flag"):
+        read_profile(path, spacing=1.0)

@@ -312,6 +312,12 @@ def _table_to_raw(
     flag_col = valid_col if valid_col is not None else invalid_col
     used = {flag_col} if flag_col is not None else set()
     data_columns = [c for c in range(n_columns) if c not in used]
+    if not data_columns:
+        title = columns[flag_col].title if flag_col is not None else ""
+        raise NoDataError(
+            f"{path}: the only column ({title!r}) is a validity flag, read as such from its "
+            "title; the file has no heights — export the scan with its height column"
+        )
     picked_x = _pick(columns, _X_NAMES, used)
     matrix = len(data_columns) >= 3 and picked_x is None
 
