@@ -24,6 +24,7 @@ P_i = f_i(δ_i^eff; state_i) with δ^eff = δ − e_z (C P). Its oracles:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -109,16 +110,12 @@ def test_each_law_in_its_limit_is_interacting_hertz(rough, law) -> None:  # type
     assert result.to_xarray().attrs["law"] == law.name
 
 
-def test_single_jkr_contact_obeys_closed_form_with_periodic_self_term() -> None:
-    """A circle (R = 1 µm) on the rigid flat, periodic, loaded into contact and pulled off:
-    every step in contact satisfies δ = δ^eff + e_z² S(a) P with (δ^eff, P) on the 2D JKR curve;
-    the contact first touches with tension (jump-in), carries tension on unloading and lets go."""
+def _single_circle(law: object, path: list[Segment]) -> tuple[int, float, Any]:
+    """A unit circle (1 Å spacing, periodic) pressed on the flat along ``path`` with ``law``,
+    converged widths: (index of the apex, period [µm], the result with every contact)."""
     n = round(1.0 / ANGSTROM)
     x = np.arange(-n, n + 1) * ANGSTROM
     lower = Profile(x, circle_cap(x, 1.0))
-    law = JKR(work_of_adhesion=0.1)
-    w = law.w
-    path = [Segment(normal=0.004, steps=10), Segment(normal=-0.004, steps=20)]
     settings = InteractionSettings(
         periodic=True, width="hertz", width_iterations=100, tol=1e-12, width_tol=1e-13
     )
@@ -126,7 +123,18 @@ def test_single_jkr_contact_obeys_closed_form_with_periodic_self_term() -> None:
         lower, "flat", path=path, law=law, interaction=settings, e_star=E_STAR,
         record_contacts="all", diagnostics=False,
     )  # fmt: skip
-    period = lower.n_points * lower.dx
+    return n, lower.n_points * lower.dx, result
+
+
+def test_single_jkr_contact_obeys_closed_form_with_periodic_self_term() -> None:
+    """A circle (R = 1 µm) on the rigid flat, periodic, loaded into contact and pulled off:
+    every step in contact satisfies δ = δ^eff + e_z² S(a) P with (δ^eff, P) on the 2D JKR curve;
+    the contact first touches with tension (jump-in), carries tension on unloading and lets go."""
+    law = JKR(work_of_adhesion=0.1)
+    w = law.w
+    n, period, result = _single_circle(
+        law, [Segment(normal=0.004, steps=10), Segment(normal=-0.004, steps=20)]
+    )
     checked = 0
     for rec in result.contacts:
         if rec.point.size == 0:
@@ -161,21 +169,12 @@ def test_single_dmt_contact_obeys_closed_form_with_periodic_self_term() -> None:
     """The same circle with 2D DMT (w = 0.1 J/m², σ0 = 1 GPa): in contact
     P = (π/4)E*δ^eff − 2σ0√(R_eff h0), at a gap P = −2σ0√(R_eff (h0 + δ^eff)), h0 = w/σ0, and
     δ = δ^eff + e_z² S(a) P at every step that carries a force."""
-    n = round(1.0 / ANGSTROM)
-    x = np.arange(-n, n + 1) * ANGSTROM
-    lower = Profile(x, circle_cap(x, 1.0))
     law = DMT(work_of_adhesion=0.1, cohesive_stress=1.0)
     sigma0 = 1.0
     h0 = law.w / sigma0
-    path = [Segment(normal=0.004, steps=10), Segment(normal=-0.002, steps=10)]
-    settings = InteractionSettings(
-        periodic=True, width="hertz", width_iterations=100, tol=1e-12, width_tol=1e-13
+    n, period, result = _single_circle(
+        law, [Segment(normal=0.004, steps=10), Segment(normal=-0.002, steps=10)]
     )
-    result = simulate(
-        lower, "flat", path=path, law=law, interaction=settings, e_star=E_STAR,
-        record_contacts="all", diagnostics=False,
-    )  # fmt: skip
-    period = lower.n_points * lower.dx
     checked = 0
     for rec in result.contacts:
         if rec.point.size == 0:

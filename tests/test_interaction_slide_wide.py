@@ -4,7 +4,6 @@ ParameterError of the normal path (a contact too wide for the period), never wit
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -58,27 +57,6 @@ def test_force_trial_beyond_validity_counts_as_above_the_target() -> None:
 
     d, f = slide._solve_continuous(0.4, evaluate, 0.1, 0.1, 10.0)
     assert f == pytest.approx(0.4, rel=1e-9) and d == pytest.approx(0.4, rel=1e-9)
-
-
-def test_cli_sliding_gives_one_line_and_writes_nothing(tmp_path: Path) -> None:
-    from typer.testing import CliRunner
-
-    from splinecontact.cli import app
-
-    profile = _circle()
-    source = tmp_path / "circle.csv"
-    np.savetxt(
-        source, np.c_[profile.x, profile.z], delimiter=",", header="x [um],z [um]", comments=""
-    )
-    target = tmp_path / "out.nc"
-    args = ["friction", "--lower", str(source), "--upper", "flat", "-o", str(target)]
-    args += ["--path", "normal=0.0005,tangential=0.0001,steps=40", "--interaction"]
-    result = CliRunner().invoke(app, args)
-    assert result.exit_code != 0
-    errors = [line for line in result.output.splitlines() if line.startswith("error:")]
-    assert len(errors) == 1 and "left its validity at step 9" in errors[0]
-    assert "Traceback" not in result.output
-    assert not target.exists()
 
 
 def test_force_control_beyond_validity_raises() -> None:
