@@ -10,10 +10,11 @@ starts its unloading line on the loading curve at δ_max for the R_eff it is eva
 * **Bit for bit where R_eff is the history's**: the state and the unloading line are those of
   the stored F_max, b_max exactly (every normal path, and a summit that keeps its curvature).
 * **Both sliding paths obey the rule**: on a rough pair slid over its own width of summits
-  (4096 points; the interacting solve stopped with a ``NoConvergenceError`` at the first
-  sliding step under the rule before), every recorded contact's force is the law's at its
-  (δ, R_eff) and the largest δ its point saw before, F_max and b_max unknown (NaN); the pair
-  meets points with a plastic history under another R_eff (the premise, counted).
+  (4096 points; displacement- or force-controlled; the interacting solve stopped with a
+  ``NoConvergenceError`` at the first sliding step under the rule before), every recorded
+  contact's force is the law's at its (δ, R_eff) and the largest δ its point saw before,
+  F_max and b_max unknown (NaN); the pair meets points with a plastic history under another
+  R_eff (the premise, counted).
 * **Energy**: a closed (u_T, δ_N) cycle on the pair does driver work ≥ 0 on both paths.
 * ``slow``: the 2·10⁴-point pair of ``docs/accuracy.md`` slides to the end in 10 and 40 steps,
   and force-controlled.
@@ -132,15 +133,23 @@ def pair() -> tuple[Profile, Profile, float]:
 
 
 @pytest.mark.parametrize("interaction", [False, True], ids=["plain", "interacting"])
-def test_sliding_contacts_obey_the_rule(pair, interaction: bool) -> None:  # type: ignore[no-untyped-def]
+@pytest.mark.parametrize("control", ["displacement", "force"])
+def test_sliding_contacts_obey_the_rule(pair, interaction: bool, control: str) -> None:  # type: ignore[no-untyped-def]
+    """Slid 0.05 µm in 10 steps at the δ_N (or the F_N) of 0.1 × the summed peak-to-valley
+    heights: every step converges, every contact obeys the rule."""
     lower, upper, top = pair
-    path = [Segment(normal=top, steps=10), Segment(tangential=0.05, steps=10)]
-    result = simulate(
-        lower, upper, path=path, law=LAW, interaction=interaction, e_star=E_STAR, mu0=0.3,
-        record_contacts="all", diagnostics=False,
-    )  # fmt: skip
+    kwargs = {"law": LAW, "interaction": interaction, "e_star": E_STAR, "diagnostics": False}
+    normal = [Segment(normal=top, steps=10)]
+    target = float(simulate(lower, upper, path=normal, **kwargs).normal_force[-1])
+    if control == "force":
+        path = [*normal, Segment(normal_force=target, tangential=0.05, steps=10)]
+    else:
+        path = [*normal, Segment(tangential=0.05, steps=10)]
+    result = simulate(lower, upper, path=path, mu0=0.3, record_contacts="all", **kwargs)
     assert result.normal_force.size == 21 and np.all(np.isfinite(result.normal_force))
     assert result.tangential_displacement[-1] == 0.05 and result.normal_force[-1] > 0.0
+    if control == "force":
+        np.testing.assert_allclose(result.normal_force[11:], target, rtol=1e-6)
     d_max: dict[int, tuple[float, float]] = {}  # point → (largest δ so far, its R_eff)
     checked = other_summit = 0
     for rec in result.contacts:
