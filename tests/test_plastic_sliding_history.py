@@ -8,7 +8,8 @@ starts its unloading line on the loading curve at δ_max for the R_eff it is eva
   history, and continuous in R_eff below δ_max; the rule before (the line ending at the
   stored F_max) jumps there by ≥ 1 % (planted here as ``_stored_rule_force``, and caught).
 * **Bit for bit where R_eff is the history's**: the state and the unloading line are those of
-  the stored F_max, b_max exactly (every normal path, and a summit that keeps its curvature).
+  the stored F_max, b_max exactly (every normal path, and a summit that keeps its curvature:
+  one circle slid over a flat and back, both paths).
 * **Both sliding paths obey the rule**: on a rough pair slid over its own width of summits
   (4096 points; displacement- or force-controlled; the interacting solve stopped with a
   ``NoConvergenceError`` at the first sliding step under the rule before), every recorded
@@ -34,6 +35,8 @@ from splinecontact.analysis import driver_work
 from splinecontact.contact import ElasticPlastic
 from splinecontact.contact import plasticity as pl
 from splinecontact.generate import weierstrass_mandelbrot
+
+from conftest import ANGSTROM, circle_cap
 
 E_STAR = 10.0
 LAW = ElasticPlastic(yield_strength=0.2)
@@ -121,6 +124,42 @@ def test_same_r_eff_unloads_on_the_stored_line_bit_for_bit(h: dict, fraction: fl
         assert force == 0.25 * math.pi * E_STAR * (delta - residual)
         b = state[2] * math.sqrt((delta - residual) / (d_max - residual))
         assert width == math.sqrt(2.0) * b
+
+
+@pytest.mark.parametrize("interaction", [False, True], ids=["plain", "interacting"])
+def test_single_circle_sliding_keeps_the_stored_line_bit_for_bit(interaction: bool) -> None:
+    """A circle (R = 1 µm) slid over a flat while pressed to 0.004 µm (δ_max ≈ 3 δ_c at the
+    far end), then at 0.002 µm slid back: it meets the points it pressed below their δ_max
+    with the R_eff that pressed them (bit for bit), and every such contact's force is the
+    unloading line of the stored F_max, exactly (the law before the rule)."""
+    x = np.arange(-400, 401) * 10 * ANGSTROM
+    flat, circle = Profile(x, np.zeros_like(x)), Profile(x, circle_cap(x, 1.0))
+    law = ElasticPlastic(yield_strength=0.1)
+    path = [
+        Segment(normal=0.0, tangential=-0.02, steps=2),
+        Segment(normal=0.004, tangential=0.02, steps=40),
+        Segment(normal=0.002, steps=4),
+        Segment(tangential=-0.02, steps=40),
+    ]
+    result = simulate(
+        flat, circle, path=path, law=law, interaction=interaction, e_star=E_STAR, mu0=0.3,
+        record_contacts="all", diagnostics=False,
+    )  # fmt: skip
+    history: dict[int, tuple[np.ndarray, float]] = {}  # point → (stored state, its R_eff)
+    met = 0
+    for rec in result.contacts:
+        for p, delta, r_eff, force in zip(
+            rec.point.tolist(), rec.overlap.tolist(), rec.effective_radius.tolist(),
+            rec.normal_force.tolist(), strict=True,
+        ):  # fmt: skip
+            state, made_by = history.get(p, (np.zeros(3), r_eff))
+            if delta < state[0]:
+                assert r_eff == made_by
+                assert force == _stored_rule_force(delta, state)
+                met += 1
+            else:  # a first loading to δ: the state it stores
+                history[p] = (_history(delta, r_eff, law.sy, law.poisson_ratio), r_eff)
+    assert met >= 20
 
 
 @pytest.fixture(scope="module")
