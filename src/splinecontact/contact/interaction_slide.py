@@ -33,9 +33,9 @@ configuration (u_T, δ_N) of the upper body:
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
   side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
-* **Contact laws**: history per lower grid point (it follows the lower body under a shift);
-  every evaluation, force-control trials too, continues the committed state on a copy of it,
-  kept by the accepted step only (one commit per step). A_S: the sum of the laws' widths.
+* **Contact laws**: history per lower grid point (it follows the lower body under a shift;
+  the plastic memory is δ_max, met by any summit's R_eff); every evaluation continues the
+  committed state on a copy, kept by the accepted step only. A_S: the sum of the laws' widths.
 * **Validity**: a step whose contact-level solve leaves the model's validity (a contact too
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
@@ -102,7 +102,7 @@ FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
 
-_LAW_HINT = "a point's law history may be another summit's (elastic-plastic: F jumps at δ_max)"
+_LAW_HINT = "a contact law's force may jump there (adhesive jump-in or out): try more steps"
 
 #: A held contact set: grid points [1] and the springs' migration window [cells].
 Held = tuple[NDArray[np.int64], int]

@@ -25,6 +25,12 @@ with b the contact half-width, δ the package's Hertz approach, ``docs/contact-l
   δ_max, then continues on the loading curve: a second loading starts later (at δ_r > 0) and is
   stiffer than the first. The state (δ_max, F_max, b_max) persists per contact and survives
   separation.
+* **History under sliding.** The memory is δ_max: the unloading line starts on the loading
+  curve of the R_eff the law is evaluated with, (F_max, b_max) = the loading curve at δ_max for
+  that R_eff. Where R_eff is the one that made the history these are the stored values (bit for
+  bit); where it is not (on a sliding path another upper summit, or the same summit with
+  another curvature, meets the point) the stored ones would end the unloading line off the
+  loading curve and F would jump at δ = δ_max. So F is continuous in δ and in R_eff.
 
 Inputs: ``yield_strength`` S_y or ``hardness`` H [GPa] (the other from Tabor's H = 2.8 S_y),
 ``poisson_ratio`` ν.
@@ -183,6 +189,10 @@ def plastic_evaluate(
         if not delta > 0.0:
             return 0.0, 0.0, d_max, f_max, b_max
         return 0.25 * _PI * e_star * delta, math.sqrt(r_eff * delta), d_max, f_max, b_max
+    # the unloading line from the remembered δ_max on the loading curve of this R_eff (the
+    # stored F_max, b_max where R_eff is the history's: the same values, bit for bit), so F is
+    # continuous at δ = δ_max whatever summit meets the point (module docstring)
+    f_max, b_max = plastic_loading(d_max, r_eff, e_star, yield_strength, hardness, nu)
     residual = d_max - 4.0 * f_max / (_PI * e_star)
     if not delta > residual:
         return 0.0, 0.0, d_max, f_max, b_max
