@@ -32,25 +32,28 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import schema
+
 __all__ = [
     "DISPLACEMENT",
     "HELD",
     "HELD_FIXED_SET",
     "HOLD_RTOL",
     "MISSED",
-    "counts",
     "finish",
     "new_codes",
 ]
 
+_MEANINGS = schema.VARIABLES["force_control"].flags  # the codes' one definition
+
 #: Displacement-controlled step (no force target).
-DISPLACEMENT = 0
+DISPLACEMENT = _MEANINGS.index("displacement_controlled")
 #: F_N held with the contact set eq. 9 accepts at the solved δ_N (the free model's state).
-HELD = 1
+HELD = _MEANINGS.index("held_accepted_set")
 #: F_N held with a contact set eq. 9 would not accept as a whole at the solved δ_N.
-HELD_FIXED_SET = 2
+HELD_FIXED_SET = _MEANINGS.index("held_fixed_set")
 #: The target lies inside a jump of F_N(δ_N): the nearer side is kept, F_N ≠ target.
-MISSED = 3
+MISSED = _MEANINGS.index("missed_inside_jump")
 
 #: Relative miss of F_N [1] above which a force-controlled step is code ``MISSED``.
 HOLD_RTOL = 1e-6
@@ -63,7 +66,7 @@ def new_codes(total: int) -> NDArray[np.int8]:
 
 def finish(
     codes: NDArray[np.int8],
-    normal_force: NDArray[np.float64],
+    normal_force: NDArray[Any],
     target: NDArray[np.float64],
     *,
     cause: str,
@@ -104,9 +107,3 @@ def finish(
             stacklevel=stacklevel + 1,
         )
     return out
-
-
-def counts(codes: Any) -> dict[int, int]:
-    """Steps per force-control code [1] (codes 1–3; NaN entries of a study store ignored)."""
-    values = np.asarray(codes, dtype=np.float64)
-    return {code: int(np.sum(values == code)) for code in (HELD, HELD_FIXED_SET, MISSED)}
