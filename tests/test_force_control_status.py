@@ -289,3 +289,38 @@ def test_friction_command_prints_the_force_control_line(tmp_path: Path) -> None:
     run = CliRunner().invoke(app, plain)
     assert run.exit_code == 0, run.output
     assert "force-controlled" not in run.output
+
+
+def test_a_path_study_stores_the_codes_with_their_meanings(tmp_path: Path) -> None:
+    """The study store keeps ``force_control`` (float64, NaN where not run) with the CF flags,
+    equal to the codes of the same realization run directly."""
+    from splinecontact.generate import weierstrass_mandelbrot_pair as pair
+    from splinecontact.study import open_study, realization_seed, run_study
+    from splinecontact.study.config import parse_study
+
+    path = [{"normal": 0.004, "steps": 4}, {"normal_force": 0.02, "tangential": 0.01, "steps": 4}]
+    config = parse_study(
+        {
+            "study": {"name": "fc", "seed": 7, "realizations": 1},
+            "fixed": {"n_points": 1000, "dimension": 1.5},
+            "path": path,
+        }
+    )
+    run_study(config, tmp_path / "s.zarr", workers=1)
+    ds = open_study(tmp_path / "s.zarr")
+    stored = ds["force_control"]
+    assert stored.attrs["flag_meanings"].split() == list(schema.VARIABLES["force_control"].flags)
+    assert list(stored.attrs["flag_values"]) == [0.0, 1.0, 2.0, 3.0]
+    params = config.parameters_at(())
+    lower, upper = pair(
+        1.5,
+        seed=realization_seed(7, 0),
+        **{k: params[k] for k in ("n_points", "length", "wavelength", "gamma", "directions",
+                                  "n_max", "ra", "amplitude_law")},
+    )  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        direct = simulate(lower, upper, path=[Segment(**s) for s in path])  # type: ignore[arg-type]
+    values = stored.values.reshape(-1)
+    np.testing.assert_array_equal(values, direct.force_control.astype(np.float64))
+    assert np.all(values[:5] == 0) and np.all(np.isin(values[5:], [1, 2]))
