@@ -119,6 +119,41 @@ def test_missed_steps_are_marked_and_warned(rough_run, monkeypatch) -> None:  # 
     assert f"at {n_missed} of 30 " in messages[0] and "force_control = 3" in messages[0]
 
 
+def test_elastic_plastic_jump_is_marked_missed_on_the_independent_path() -> None:
+    """The elastic–plastic law's history belongs to a lower grid point: when sliding brings
+    another summit there, its force jumps at δ_max, also with the step's contacts held, and a
+    target inside that jump is missed (nearer side). Those steps are code 3, F_N off the target
+    by more than the solver's tolerance; every other held step holds F_N to 1e−6, and the
+    warning counts the code-3 steps. (All three codes occur on this pair.)"""
+    from splinecontact.contact import ElasticPlastic
+
+    lower = weierstrass_mandelbrot(1.5, n_points=1024, length=4.0, seed=1)
+    upper = weierstrass_mandelbrot(1.3, n_points=1024, length=4.0, seed=6)
+    top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
+    kwargs = {"e_star": E_STAR, "g_star": E_STAR / 2.6, "mu0": 0.3, "diagnostics": False,
+              "law": ElasticPlastic(yield_strength=0.2)}  # fmt: skip
+    loaded = simulate(lower, upper, path=[Segment(normal=top, steps=3)], **kwargs)
+    target = 0.7 * float(loaded.normal_force[-1])
+    path = [
+        Segment(normal=top, steps=3),
+        Segment(normal_force=target, steps=2),
+        Segment(normal_force=target, tangential=0.04, steps=20),
+        Segment(normal_force=target, tangential=-0.04, steps=20),
+    ]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        result = simulate(lower, upper, path=path, **kwargs)
+    codes = result.force_control
+    assert np.all(codes[:4] == fs.DISPLACEMENT)
+    assert set(codes[4:].tolist()) == {fs.HELD, fs.HELD_FIXED_SET, fs.MISSED}
+    miss = np.abs(result.normal_force[4:] / target - 1)
+    assert np.all(miss[codes[4:] == fs.MISSED] > loadpath.FORCE_RTOL)
+    assert np.all(miss[codes[4:] != fs.MISSED] <= fs.HOLD_RTOL)
+    n_missed = int(np.sum(codes == fs.MISSED))
+    messages = [str(w.message) for w in caught if "could not be held" in str(w.message)]
+    assert len(messages) == 1 and f"at {n_missed} of 42 " in messages[0]
+
+
 def _circle() -> Profile:
     x = np.arange(-400, 401) * 5 * ANGSTROM
     return Profile(x, circle_cap(x, 1.0))
