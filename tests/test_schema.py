@@ -27,7 +27,18 @@ def test_every_variable_has_units_long_name_dims_and_dtype() -> None:
         assert variable.name == name
         assert variable.units and variable.long_name, name
         assert variable.dtype in {"float64", "int64", "int8"}, name
-        assert schema.attrs(name) == {"units": variable.units, "long_name": variable.long_name}
+        attrs = schema.attrs(name)
+        assert {k: attrs[k] for k in ("units", "long_name")} == {
+            "units": variable.units,
+            "long_name": variable.long_name,
+        }
+        if variable.flags:  # a coded variable: CF flag_values 0, 1, … and one word per code
+            assert set(attrs) == {"units", "long_name", "flag_values", "flag_meanings"}, name
+            assert attrs["flag_values"].dtype == np.dtype(variable.dtype)
+            assert attrs["flag_values"].tolist() == list(range(len(variable.flags)))
+            assert attrs["flag_meanings"].split() == list(variable.flags)
+        else:
+            assert set(attrs) == {"units", "long_name"}, name
         assert schema.units(name) == variable.units
         assert variable.dims == {"scalar": ()}.get(variable.table, variable.dims)
     assert schema.VARIABLES["normal_force"].dims == ("step",)

@@ -157,6 +157,10 @@ class SimulationResult:
         Frictional work since step 0 [mN·µm/µm] (load paths only, else ``None``).
     normal_force_target : ndarray or None
         F_N held by a force-controlled segment [mN/µm], NaN elsewhere (load paths only).
+    force_control : ndarray of int8 or None
+        How each step met F_N [1] (load paths only): 0 displacement-controlled, 1 held with the
+        contacts eq. 9 accepts, 2 held with a contact set eq. 9 would not accept as a whole
+        (target inside a jump), 3 target inside a jump, F_N ≠ target (the nearer side).
     final_displacement : float
         Displacement at the last step [µm].
     ra_lower, ra_upper, rq_lower, rq_upper, peak_to_valley_lower : float
@@ -193,6 +197,7 @@ class SimulationResult:
     n_slipping: _COUNT | None = field(init=False, default=None)
     dissipated_work: _FLOAT | None = field(init=False, default=None)
     normal_force_target: _FLOAT | None = field(init=False, default=None)
+    force_control: NDArray[np.int8] | None = field(init=False, default=None)
     coalesced_contact_length: _FLOAT | None = field(init=False, default=None)
     n_contact_patches: _COUNT | None = field(init=False, default=None)
     interaction_iterations: _COUNT | None = field(init=False, default=None)

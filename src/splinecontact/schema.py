@@ -105,6 +105,9 @@ class Variable:
         The table it belongs to (see the module docstring).
     dtype : str
         numpy dtype of the written array (``"float64"``, ``"int64"`` or ``"int8"``).
+    flags : tuple of str
+        For a coded variable, the meaning of the codes 0, 1, … in order (CF ``flag_values``
+        and ``flag_meanings``, one word each); empty otherwise.
     """
 
     name: str
@@ -112,15 +115,23 @@ class Variable:
     long_name: str
     table: Table
     dtype: str = "float64"
+    flags: tuple[str, ...] = ()
 
     @property
     def dims(self) -> tuple[str, ...]:
         """Dimensions of the variable in its own object (a study store prepends its own)."""
         return _DIMS[self.table]
 
-    def attrs(self) -> dict[str, str]:
-        """``{"units": ..., "long_name": ...}``, the attributes of a written variable."""
-        return {"units": self.units, "long_name": self.long_name}
+    def attrs(self) -> dict[str, Any]:
+        """``{"units": ..., "long_name": ...}``, the attributes of a written variable, and for a
+        coded variable ``flag_values`` (int8 array 0, 1, …) and ``flag_meanings`` (CF)."""
+        out: dict[str, Any] = {"units": self.units, "long_name": self.long_name}
+        if self.flags:
+            import numpy as np
+
+            out["flag_values"] = np.arange(len(self.flags), dtype=np.int8)
+            out["flag_meanings"] = " ".join(self.flags)
+        return out
 
 
 _F, _I, _B = "float64", "int64", "int8"
@@ -178,6 +189,15 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
             "mN/µm",
             "F_N held by a force-controlled segment (NaN on displacement-controlled steps)",
             _F,
+        ),
+        (
+            "force_control",
+            "1",
+            "how the step met F_N: 0 displacement-controlled; 1 F_N held, the contacts eq. 9 "
+            "accepts at that δ_N; 2 F_N held with a contact set eq. 9 would not accept as a "
+            "whole there (target inside a jump); 3 target inside a jump, nearer side kept, "
+            "F_N ≠ target",
+            _B,
         ),
     ],
     "interaction_step": [
@@ -286,13 +306,25 @@ _ROWS: dict[Table, list[tuple[str, str, str, str]]] = {
 }
 
 
+#: The codes of the coded variables: name -> meanings of 0, 1, … (CF ``flag_meanings``).
+_FLAGS: dict[str, tuple[str, ...]] = {
+    "force_control": (
+        "displacement_controlled",
+        "held_accepted_set",
+        "held_fixed_set",
+        "missed_inside_jump",
+    ),
+}
+
+
 def _build() -> Mapping[str, Variable]:
     variables: dict[str, Variable] = {}
     for table_name in TABLES:
         for name, unit, long_name, dtype in _ROWS[table_name]:
             if name in variables:  # pragma: no cover - guarded by tests/test_schema.py
                 raise AssertionError(f"output variable {name!r} defined twice")
-            variables[name] = Variable(name, unit, long_name, table_name, dtype)
+            flags = _FLAGS.get(name, ())
+            variables[name] = Variable(name, unit, long_name, table_name, dtype, flags)
     return MappingProxyType(variables)
 
 
@@ -341,8 +373,9 @@ def legacy_table(name: Table) -> dict[str, tuple[str, str]]:
     return {n: (v.units, v.long_name) for n, v in table(name).items()}
 
 
-def attrs(name: str) -> dict[str, str]:
-    """The attributes of a written variable: ``{"units": ..., "long_name": ...}``.
+def attrs(name: str) -> dict[str, Any]:
+    """The attributes of a written variable: ``{"units": ..., "long_name": ...}`` (and the CF
+    ``flag_values``/``flag_meanings`` of a coded variable).
 
     Raises
     ------

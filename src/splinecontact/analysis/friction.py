@@ -6,7 +6,11 @@ force resisting a motion toward +x is negative. Stiffnesses are per µm of out-o
 
 * μ_s — static friction coefficient: max |F_T|/F_N over the first segment that moves the upper body
   tangentially (steps with F_N > 0). Global sliding onset is the first step of that segment at
-  which every accepted contact slips.
+  which every accepted contact slips. Force-controlled steps that missed their target
+  (``force_control`` = 3: the target lies inside a jump of F_N(δ_N), F_N is the nearer side)
+  are skipped: their F_T/F_N belongs to a load other than the held one (the count is
+  ``StaticFriction.skipped``). Steps held with a fixed contact set (code 2) are used: F_N is
+  the held one there, on contacts eq. 9 would not accept as a whole (``force_control_counts``).
 * k_T = −dF_T/du_T at the start of the first tangential segment, k_N = dF_N/dδ_N just
   before it (first differences, or least-squares slopes over several increments), and their
   ratio. For comparison: Mindlin's
@@ -22,7 +26,9 @@ force resisting a motion toward +x is negative. Stiffnesses are per µm of out-o
   The work done by the driver, W = ∫(F_N dδ_N − F_T du_T), equals it over a closed cycle of a
   single spring–slider; for rough pairs it also contains the energy released when contacts vanish.
 * Dilatancy of a force-controlled segment: −(δ_N at its end − δ_N at its start) [µm], positive when
-  the bodies move apart while F_N is held.
+  the bodies move apart while F_N is held. An end step that missed its target (code 3) is used:
+  its δ_N is where F_N(δ_N) jumps across the target (the solver's bracket closes on the jump
+  to rounding), i.e. the δ_N at which the held load is passed.
 """
 
 from __future__ import annotations
@@ -33,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import schema
 from ..errors import FrictionAnalysisError, ParameterError
 from ..results import SimulationResult
 
@@ -42,6 +49,7 @@ __all__ = [
     "dilatancy",
     "dissipated_energy",
     "driver_work",
+    "force_control_counts",
     "interface_stiffness",
     "mindlin_stiffness_ratio",
     "normal_stiffness",
@@ -50,6 +58,9 @@ __all__ = [
     "static_friction",
     "tangential_stiffness",
 ]
+
+#: The ``force_control`` code of a step that missed its force target (inside a jump of F_N).
+_MISSED = schema.VARIABLES["force_control"].flags.index("missed_inside_jump")
 
 
 def segment_steps(result: SimulationResult) -> list[tuple[int, int]]:
@@ -95,20 +106,38 @@ class StaticFriction:
         First step at which every accepted contact slips (global sliding), if any.
     segment : int
         Index of the segment.
+    skipped : int
+        Force-controlled steps of the segment left out because they missed their target
+        (``force_control`` = 3) [1].
     """
 
     mu_s: float
     step: int
     onset_step: int | None
     segment: int
+    skipped: int = 0
 
 
 def static_friction(result: SimulationResult) -> StaticFriction:
-    """μ_s = max |F_T|/F_N [1] over the first tangential segment (see module docstring)."""
+    """μ_s = max |F_T|/F_N [1] over the first tangential segment (see module docstring).
+
+    Steps that missed a force target (``force_control`` = 3) are skipped and counted.
+
+    Raises
+    ------
+    FrictionAnalysisError
+        No tangential segment in contact, or every step of it with F_N > 0 missed its target.
+    """
     index, a, b = _first_tangential(result)
     fn = np.asarray(result.curves["normal_force"])[a + 1 : b + 1]
     ft = np.asarray(result.curves["tangential_force"])[a + 1 : b + 1]
-    ok = fn > 0
+    missed = _codes(result)[a + 1 : b + 1] == _MISSED
+    ok = (fn > 0) & ~missed
+    if not ok.any() and np.any(fn > 0):
+        raise FrictionAnalysisError(
+            f"every step of segment {index} with F_N > 0 missed its force target "
+            "(force_control = 3): no μ_s at the held load; check normal_force_target"
+        )
     ratio = np.where(ok, np.abs(ft) / np.where(ok, fn, 1.0), 0.0)
     k = int(np.argmax(ratio))
     onset = None
@@ -117,7 +146,42 @@ def static_friction(result: SimulationResult) -> StaticFriction:
         n_s = np.asarray(result.curves["n_slipping"])[a + 1 : b + 1]
         hit = np.flatnonzero((n_c > 0) & (n_s == n_c))
         onset = None if hit.size == 0 else int(a + 1 + hit[0])
-    return StaticFriction(mu_s=float(ratio[k]), step=a + 1 + k, onset_step=onset, segment=index)
+    return StaticFriction(
+        mu_s=float(ratio[k]),
+        step=a + 1 + k,
+        onset_step=onset,
+        segment=index,
+        skipped=int(np.sum(missed & (fn > 0))),
+    )
+
+
+def _codes(result: SimulationResult) -> Any:
+    """The ``force_control`` codes (all 0 for a result without them: no force control)."""
+    codes = result.curves.get("force_control")
+    if codes is None:
+        return np.zeros(len(result.curves["displacement"]), dtype=np.int8)
+    return np.asarray(codes)
+
+
+def force_control_counts(result: SimulationResult, segment: int | None = None) -> dict[int, int]:
+    """Force-controlled steps per ``force_control`` code [1]: 1 held on the contacts eq. 9
+    accepts, 2 held with a contact set inside a jump, 3 missed inside a jump.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A load-path result.
+    segment : int, optional
+        Count one path segment only (default: the whole path).
+    """
+    codes = _codes(result)
+    if segment is not None:
+        bounds = segment_steps(result)
+        if not 0 <= segment < len(bounds):
+            raise FrictionAnalysisError(f"segment {segment} is outside 0…{len(bounds) - 1}")
+        codes = codes[bounds[segment][0] + 1 : bounds[segment][1] + 1]
+    values = np.asarray(codes, dtype=np.float64)  # (a study store's rows hold NaN)
+    return {code: int(np.sum(values == code)) for code in range(1, _MISSED + 1)}
 
 
 def _slope(x: Any, y: Any) -> float:
@@ -300,7 +364,11 @@ def driver_work(result: SimulationResult, start: int, stop: int) -> float:
 
 
 def dilatancy(result: SimulationResult, segment: int) -> float:
-    """−(δ_N(end) − δ_N(start)) [µm] of a force-controlled segment (positive: bodies separate)."""
+    """−(δ_N(end) − δ_N(start)) [µm] of a force-controlled segment (positive: bodies separate).
+
+    An end that missed its target (``force_control`` = 3) counts with its δ_N, where F_N(δ_N)
+    jumps across the target (module docstring); :func:`force_control_counts` says how many.
+    """
     bounds = segment_steps(result)
     if not 0 <= segment < len(bounds):
         raise FrictionAnalysisError(f"segment {segment} is outside 0…{len(bounds) - 1}")

@@ -19,6 +19,7 @@ from .ensemble import confidence_halfwidth
 from .friction import (
     dilatancy,
     dissipated_energy,
+    force_control_counts,
     interface_stiffness,
     normal_stiffness,
     segment_steps,
@@ -30,7 +31,11 @@ __all__ = ["FRICTION_STUDY_VARIABLES", "friction_study"]
 
 #: Per-realisation quantities of :func:`friction_study`: name -> (units, description).
 FRICTION_STUDY_VARIABLES: dict[str, tuple[str, str]] = {
-    "mu_s": ("1", "static friction coefficient max|F_T|/F_N while sliding at constant F_N"),
+    "mu_s": (
+        "1",
+        "static friction coefficient max|F_T|/F_N while sliding at constant F_N (steps that "
+        "missed the held F_N, force_control = 3, skipped)",
+    ),
     "k_t": ("GPa", "tangential stiffness −dF_T/du_T at u_T = 0 (first increment)"),
     "k_n": ("GPa", "normal stiffness dF_N/dδ_N just before sliding (fit over 20 increments)"),
     "stiffness_ratio": ("1", "k_T/k_N of the finite differences (unstable for rough pairs)"),
@@ -39,9 +44,18 @@ FRICTION_STUDY_VARIABLES: dict[str, tuple[str, str]] = {
         "k_T/k_N of the stuck contacts before sliding (interface_stiffness; stable)",
     ),
     "dissipation": ("mN·µm/µm", "frictional work dissipated over one full cycle at constant F_N"),
-    "dilatancy": ("µm", "rise of the upper body over the first slide at constant F_N"),
+    "dilatancy": (
+        "µm",
+        "rise of the upper body over the first slide at constant F_N (an end step that missed "
+        "the held F_N, force_control = 3, counts with the δ_N of the jump across it)",
+    ),
     "normal_force": ("mN/µm", "F_N held while sliding"),
     "force_held": ("1", "share of the constant-F_N steps where F_N is met to 1e−6"),
+    "force_fixed_set": (
+        "1",
+        "share of the constant-F_N steps held with a contact set eq. 9 would not accept as a "
+        "whole (force_control = 2: the held F_N lies inside a jump of the free model)",
+    ),
 }
 
 
@@ -143,6 +157,7 @@ def friction_study(
             bounds = segment_steps(result)
             held = np.isfinite(np.asarray(result.curves["normal_force_target"]))
             fn = np.asarray(result.curves["normal_force"])[held]
+            counts = force_control_counts(result)
             k_t = tangential_stiffness(first)
             k_n = normal_stiffness(first, increments=min(20, normal_steps))
             row = {
@@ -155,6 +170,7 @@ def friction_study(
                 "dilatancy": dilatancy(result, 1),
                 "normal_force": force,
                 "force_held": float(np.mean(np.abs(fn / force - 1) <= 1e-6)),
+                "force_fixed_set": counts[2] / sum(counts.values()),
             }
             for name, value in row.items():
                 values[name][a, b] = value

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -120,3 +120,22 @@ def register(app: typer.Typer) -> None:
         except FrictionAnalysisError:
             pass
         typer.echo(f"{summary} -> {out}")
+        if (line := force_control_line(result)) is not None:
+            typer.echo(line)
+
+
+def force_control_line(result: Any) -> str | None:
+    """One line on the force-controlled steps of a path (``None`` without any): how many met
+    F_N on eq. 9's contacts, with a held contact set inside a jump, or missed it (codes 1–3 of
+    the ``force_control`` output)."""
+    from ..analysis import force_control_counts
+
+    n = force_control_counts(result)
+    total = sum(n.values())
+    if total == 0:
+        return None
+    return (
+        f"{n[1] + n[2]} of {total} force-controlled steps held F_N ({n[1]} on the contacts eq. 9 "
+        f"accepts, {n[2]} with a held contact set inside a jump), {n[3]} missed it inside a jump "
+        "(force_control = 3; normal_force − normal_force_target)"
+    )

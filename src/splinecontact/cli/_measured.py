@@ -72,7 +72,8 @@ def _write_csv(result: SimulationResult, path: Path, header: dict[str, Any]) -> 
 
     import numpy as np
 
-    from ..results import STEP_VARIABLES
+    from .. import schema
+    from ..results import PATH_STEP_VARIABLES, STEP_VARIABLES
 
     with path.open("w", newline="", encoding="utf-8") as handle:
         for key, value in header.items():
@@ -84,8 +85,15 @@ def _write_csv(result: SimulationResult, path: Path, header: dict[str, Any]) -> 
         for key, (units, _) in SCALAR_VARIABLES.items():
             handle.write(f"# {key} [{units}] = {float(result.scalars[key]):.10g}\n")
         writer = csv.writer(handle)
-        names = list(STEP_VARIABLES)
-        writer.writerow(["step [1]", *(f"{n} [{STEP_VARIABLES[n][0]}]" for n in names)])
+        table = dict(STEP_VARIABLES)
+        if "path" in result.parameters:  # a load path: u_T, slip, work, F_N target, force_control
+            table.update((n, u) for n, u in PATH_STEP_VARIABLES.items() if n in result.curves)
+        names = list(table)
+        for name in names:  # the meaning of each code of a coded column (CF flag_meanings)
+            if flags := schema.VARIABLES[name].flags:
+                codes = ", ".join(f"{code} = {meaning}" for code, meaning in enumerate(flags))
+                handle.write(f"# {name} codes: {codes}\n")
+        writer.writerow(["step [1]", *(f"{n} [{table[n][0]}]" for n in names)])
         columns = [np.asarray(result.curves[n]) for n in names]
         for i in range(len(columns[0])):
             writer.writerow([i, *(f"{c[i]:.10g}" for c in columns)])

@@ -33,6 +33,7 @@ configuration (u_T, δ_N) of the upper body:
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
   side is taken and a ``RuntimeWarning`` says so (``normal_force − normal_force_target``).
+  ``force_control`` codes each step's outcome (:mod:`._force_status`).
 * **Contact laws**: history per lower grid point (it follows the lower body under a shift;
   the plastic memory is δ_max, met by any summit's R_eff); every evaluation continues the
   committed state on a copy, kept by the accepted step only. A_S: the sum of the laws' widths.
@@ -48,7 +49,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from collections.abc import Sequence
 from typing import Any, Literal
 
@@ -60,6 +60,7 @@ from ..errors import LoadPathError, NoConvergenceError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord
 from ..spline import SplineFit
+from . import _force_status as _fs
 from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
@@ -448,9 +449,12 @@ def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
     return np.sort(record.point.astype(np.int64))
 
 
-def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[float, Held | None]:
-    """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], and the
-    contact set to hold through it (grid points and migration window; ``None``: eq. 9 free).
+def _force_step(
+    driver: _Driver, u: float, target: float, tol: float
+) -> tuple[float, Held | None, int]:
+    """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], the
+    contact set to hold through it (grid points and migration window; ``None``: eq. 9 free)
+    and the step's ``force_control`` code (:mod:`._force_status`; a miss is marked later).
 
     With the contact set held (eq. 9 not re-tested; a held contact whose effective approach
     falls to ≤ 0 carries nothing) the coupled F_N(δ_N) is continuous, and the target is met
@@ -472,9 +476,9 @@ def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[f
         out, seen[value] = driver.evaluate(u, value, False, tol, held)
         return out[0]
 
-    def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held]:
-        """δ_N and the held set of the held solves from δ_N = d."""
-        held = (cells, driver.window(u, d))
+    def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held, int]:
+        """δ_N, the held set and the code of the held solves from δ_N = d."""
+        held, code = (cells, driver.window(u, d)), _fs.HELD_FIXED_SET
         for round_ in range(SET_ROUNDS):
             seen.clear()
             d, _ = _solve_continuous(
@@ -483,15 +487,16 @@ def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[f
             loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
             window = driver.window(u, d)
             if window == held[1] and np.array_equal(loaded, _loaded(seen[d])):
+                code = _fs.HELD
                 break  # the free model's contacts: consistent
             if round_ == SET_ROUNDS - 1 or loaded.size == 0:
                 break  # the target lies in a jump of the free model: F_N held
             held = (loaded, window)
-        return d, held
+        return d, held, code
 
     f = trial(driver.d, None)
     if abs(f - target) <= FORCE_RTOL * target or math.isinf(f):
-        return driver.d, None  # met, or beyond validity already (raised when committed)
+        return driver.d, None, _fs.HELD  # met, or beyond validity (raised when committed)
     held = _loaded(seen[driver.d])
     if held.size:
         try:
@@ -502,11 +507,11 @@ def _force_step(driver: _Driver, u: float, target: float, tol: float) -> tuple[f
     d, _, lo, hi = _solve_force(target, lambda v: (trial(v, None),), driver.d, scale)
     held = _loaded(driver.evaluate(u, lo, False, tol)[1])
     if lo == hi or held.size == 0:
-        return d, None
+        return d, None, _fs.HELD if lo == hi else _fs.MISSED
     try:
         return hold_from(lo, held)
     except _HeldSetFails:
-        return d, None
+        return d, None, _fs.MISSED
 
 
 def run_interacting_path(
@@ -560,6 +565,7 @@ def run_interacting_path(
     total = 1 + sum(s.steps for s in segments)
     table = np.zeros((total, 2 + len(_NAMES)))
     target = np.full(total, np.nan)
+    codes = _fs.new_codes(total)
     record = np.zeros(total, dtype=np.bool_)
     if record_steps is not None and len(record_steps):
         record[np.asarray(record_steps)] = True
@@ -615,7 +621,7 @@ def run_interacting_path(
                 continue
 
             driver.beyond = None
-            d, held = _force_step(driver, u, force, force_tol)
+            d, held, codes[k] = _force_step(driver, u, force, force_tol)
             target[k] = force
             store(k, *driver.evaluate(u, d, True, force_tol, held))
             if driver.beyond is not None and abs(table[k, 2] - force) > FORCE_HOLD_RTOL * force:
@@ -632,19 +638,12 @@ def run_interacting_path(
         curves[name] = curves[name].astype(np.int64)
     curves["dissipated_work"] = np.cumsum(curves.pop("step_work"))
     curves["normal_force_target"] = target
-    held = np.isfinite(target)
-    if held.any():
-        miss = np.abs(curves["normal_force"][held] - target[held]) / target[held]
-        n_miss = int(np.sum(miss > FORCE_HOLD_RTOL))
-        if n_miss:
-            warnings.warn(
-                f"F_N could not be held to {FORCE_HOLD_RTOL:g} at {n_miss} of {int(held.sum())} "
-                f"force-controlled steps (largest relative miss {float(miss.max()):.3g}): "
-                "F_N(δ_N) jumped across the target even with the step's contacts held (the "
-                "width loop stopping after a different number of updates, or the target "
-                "reachable only beyond the model's validity); the nearer side was taken (see "
-                "normal_force − normal_force_target)",
-                RuntimeWarning,
-                stacklevel=4,
-            )
+    cause = (
+        "F_N(δ_N) jumped across the target even with the step's contacts held (a law's jump, "
+        "the width loop stopping after a different number of updates, or the target reachable "
+        "only beyond the model's validity)"
+    )
+    curves["force_control"] = _fs.finish(
+        codes, curves["normal_force"], target, cause=cause, stacklevel=4
+    )
     return curves, tuple(contacts)

@@ -8,7 +8,7 @@ end of the previous one to its targets:
 * ``Segment(normal_force=F_N, tangential=u_T, steps=n)`` — F_N [mN/µm] is held at every step of
   the segment while u_T moves; δ_N is solved at each step (relative tolerance 1e−9). Where eq. 9
   makes F_N(δ_N) jump across the target, the step's contact cells are fixed through the solve
-  (:func:`_consistent_set`, ``docs/friction.md``).
+  (:func:`_consistent_set`, ``docs/friction.md``); ``force_control`` codes the outcome.
 
 ``tangential`` omitted keeps the current shift. The upper body shifted by u_T is its spline
 evaluated at x − u_T (no re-fit); the tangential springs of eqs. 11–13 follow each contact as
@@ -19,7 +19,6 @@ its centre migrates from cell to cell (rule in ``docs/conventions.md``, model in
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -31,6 +30,7 @@ from ..errors import ForceControlError, LoadPathError, ParameterError
 from ..profile import Profile
 from ..results import ContactRecord, SimulationResult
 from ..spline import SplineFit, fit_spline_pair
+from . import _force_status as _fs
 from . import path_kernel as _k
 from ._culling import SPHERE_BLOCK
 from ._path_run import run_steps
@@ -330,7 +330,7 @@ def _consistent_set(
     d_miss: float,
     scale: float,
     window_of: Any,
-) -> tuple[float, NDArray[np.bool_] | None, int | None]:
+) -> tuple[float, NDArray[np.bool_] | None, int | None, int]:
     """δ_N holding F_N = target when the free F_N(δ_N) jumps across it (see docs/friction.md).
 
     With the contact cells and the migration window fixed, F_N(δ_N) is continuous (contacts
@@ -341,7 +341,8 @@ def _consistent_set(
     at that δ_N. If neither side is consistent, the target lies in a true jump of the model;
     the set of the side below the target is kept through the step, which holds F_N.
 
-    Returns δ_N, the fixed cells and the window (``None``, ``None``: the free miss, kept).
+    Returns δ_N, the fixed cells, the window (``None``, ``None``: the free miss, kept) and the
+    step's ``force_control`` code (:mod:`._force_status`: 1 consistent, 2 held, 3 missed).
     """
     n = state.springs.acc.size
     fallback: tuple[float, NDArray[np.bool_], int] | None = None
@@ -368,12 +369,12 @@ def _consistent_set(
         if not solved:
             continue
         if np.array_equal(_accepted_cells(evaluate, state, d), cells):
-            return d, fixed, window
+            return d, fixed, window, _fs.HELD
         if fallback is None:
             fallback = (d, fixed, window)
     if fallback is not None:
-        return fallback
-    return d_miss, None, None
+        return (*fallback, _fs.HELD_FIXED_SET)
+    return d_miss, None, None, _fs.MISSED
 
 
 def run_path(
@@ -428,6 +429,7 @@ def run_path(
     n = geo.surf.f_l.size
     total = 1 + sum(s.steps for s in segments)
     target = np.full(total, np.nan)
+    codes = _fs.new_codes(total)
     record = np.zeros(total, dtype=np.bool_)
     if record_steps is not None and len(record_steps):
         record[record_steps] = True
@@ -520,16 +522,17 @@ def run_path(
             d, _, lo, hi = _solve_force(force, evaluate, d_cur, geo.scale)
             fixed: NDArray[np.bool_] | None = None
             window: int | None = None
+            code = _fs.HELD
             if lo != hi:
                 # F_N jumps between lo and hi: eq. 9 drops a contact there (docs/friction.md).
-                d, fixed, window = _consistent_set(
+                d, fixed, window, code = _consistent_set(
                     force, evaluate, state, (lo, hi), d, geo.scale,
                     lambda trial, _du=du, _d0=d_cur: _migrate_cells(geo, _du, trial - _d0),
                 )  # fmt: skip
             if d > cands.d_max:
                 cands = _Candidates(geo, state, u, d + margin)
             values = _step(geo, cands, state, u, d, du, d - d_cur, True, fixed, window)
-            target[k + 1] = force
+            target[k + 1], codes[k + 1] = force, code
             k += 1
             store(k, d, u, values)
             u_cur, d_cur = u, d
@@ -539,19 +542,8 @@ def run_path(
         name: table[:, 2 + j].astype(np.int64) if name.startswith("n_") else table[:, 2 + j].copy()
         for j, name in enumerate(_NAMES)
     }
-    held = np.isfinite(target)
-    if held.any():
-        miss = np.abs(out["normal_force"][held] - target[held]) / target[held]
-        n_miss = int(np.sum(miss > 1e-6))
-        if n_miss:
-            warnings.warn(
-                f"F_N could not be held to 1e-6 at {n_miss} of {int(held.sum())} force-controlled "
-                f"steps (largest relative miss {float(miss.max()):.3g}): F_N(δ_N) jumps where a "
-                "contact appears or vanishes (eq. 9), and the target fell inside a jump; the "
-                "nearer side was taken (see normal_force − normal_force_target)",
-                RuntimeWarning,
-                stacklevel=4,
-            )
+    cause = "F_N(δ_N) jumps where a contact appears or vanishes (eq. 9) or a law jumps in or out"
+    codes = _fs.finish(codes, out["normal_force"], target, cause=cause, stacklevel=4)
     curves: dict[str, NDArray[Any]] = {
         "displacement": disp,
         "tangential_displacement": tang,
@@ -562,6 +554,7 @@ def run_path(
         "n_slipping": out["n_slipping"],
         "dissipated_work": np.cumsum(out["step_work"]),
         "normal_force_target": target,
+        "force_control": codes,
         "normal_force_normal_part": out["normal_force_normal_part"],
         "normal_force_tangential_part": out["normal_force_tangential_part"],
         "n_tilted_contacts": out["n_tilted_contacts"],

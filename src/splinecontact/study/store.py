@@ -41,6 +41,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
+from .. import schema
 from .._version import __version__
 from ..errors import StudyConfigError, StudyStoreError, UnsafeOutputError
 from ..outputs import is_protected_directory
@@ -142,12 +143,14 @@ _STORE_VARIABLES: dict[str, tuple[str, str | None]] = {
 }
 
 
-def variable_attrs(name: str) -> dict[str, str]:
+def variable_attrs(name: str) -> dict[str, Any]:
     """The ``units`` and ``long_name`` the store writes for variable or coordinate ``name``.
 
     The one place the store's variable attributes come from: the results' per-step and scalar
     variables (:mod:`splinecontact.results`), the swept parameters (the parameter registry) and
-    the store's own (``status``, ``error``, ``seed_spawn_key``, ``realization``, ``step``).
+    the store's own (``status``, ``error``, ``seed_spawn_key``, ``realization``, ``step``). A
+    coded variable (``force_control``) also gets the CF ``flag_values`` (as stored: float64,
+    NaN where not run) and ``flag_meanings`` of :mod:`splinecontact.schema`.
 
     Raises
     ------
@@ -164,7 +167,13 @@ def variable_attrs(name: str) -> dict[str, str]:
         units, long_name = table[name]
     else:
         units, long_name = PARAMETERS[name].unit, PARAMETERS[name].description
-    return {"units": units} if long_name is None else {"units": units, "long_name": long_name}
+    out: dict[str, Any] = {"units": units}
+    if long_name is not None:
+        out["long_name"] = long_name
+    if flags := (schema.VARIABLES[name].flags if name in schema.VARIABLES else ()):
+        out["flag_values"] = [float(code) for code in range(len(flags))]
+        out["flag_meanings"] = " ".join(flags)
+    return out
 
 
 def _template(config: StudyConfig) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
