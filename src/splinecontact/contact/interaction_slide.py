@@ -217,6 +217,10 @@ class _Driver:
         self.u = 0.0
         self.d = 0.0
         self._columns: tuple[float, float, tuple[NDArray[np.float64], ...]] | None = None
+        # what the coupled solve keeps of the current candidates (interacting_loading's reuse)
+        self.reuse: dict[str, Any] = {}
+        # the first step of the force trials at one shift: (u, δ_N, tol), candidates, state
+        self._first: tuple[tuple[float, float, float], Any, dict[str, Any] | None] | None = None
         # the meshes of the coupled solve (same period and E* at every step), built once
         cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
         self.mesh = mesh_cache(cells)
@@ -261,6 +265,7 @@ class _Driver:
         held: NDArray[np.bool_] | None,
         carry: dict[str, Any],
         law_state: NDArray[np.float64] | None = None,
+        recorded: int = 1,
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
         """The coupled step (:func:`.interaction.interacting_loading`) continuing ``carry``,
         repeated with the given settings' width updates if the width loop made it fail; ``None``
@@ -270,8 +275,8 @@ class _Driver:
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
-                carry=carry, law=self.law, law_state=law_state,
+                settings=chosen, record_steps=np.array([recorded]), contact_set=held, mesh=self.mesh,
+                carry=carry, law=self.law, law_state=law_state, reuse=self.reuse,
             )  # fmt: skip
         except NoConvergenceError as error:
             if settings.width_iterations == self.given.width_iterations:
@@ -279,11 +284,33 @@ class _Driver:
                 raise NoConvergenceError(f"{error}{hint}") from error
             if law_state is not None:  # the failed solve may have committed rows: start again
                 law_state[:] = self.law_state
-            return self._solve(geometry, self.given, tol, held, carry, law_state)
+            return self._solve(geometry, self.given, tol, held, carry, law_state, recorded)
         except ParameterError as error:
             if "left its validity" not in str(error):
                 raise
             return None
+
+    def _first_step(
+        self, u: float, geometry: ContactGeometry, tol: float
+    ) -> dict[str, Any] | None:
+        """The state after the first step of a force trial's two-step loading (the committed
+        δ_N at shift u [µm] from contact-free, on the trial's candidates ``geometry``), which
+        does not depend on the trial's δ_N nor on the held set: solved once per shift,
+        committed δ_N and candidate columns, and continued by every trial (bit-identical to
+        solving it in each trial). ``None`` where it leaves the model's validity."""
+        key = (u, self.d, tol)
+        cached = self._first
+        if cached is not None and cached[0] == key and cached[1] is geometry.gap0:
+            return cached[2]
+        carry: dict[str, Any] = {}
+        start = dataclasses.replace(
+            geometry, first_step_index=np.zeros(1, dtype=np.int64),
+            displacement=np.array([self.d]),
+        )  # fmt: skip
+        solved = self._solve(start, self.given, tol, None, carry, recorded=0)
+        first = None if solved is None else carry
+        self._first = (key, geometry.gap0, first)
+        return first
 
     def _valid(self, contacts: tuple[ContactRecord, ...]) -> bool:
         """Every loaded contact's Hertz half-width √(2 P R_eff/(πE*)) [µm] below L_p/π, the
@@ -328,11 +355,17 @@ class _Driver:
         # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
         # the history of the widths (unloading in force needed more δ_N, not less)
         # with a law every evaluation continues the committed state (one commit per step)
-        carry = {} if tol is not None and self.law is None else dict(self.carry)
         history = None if self.law_state is None else self.law_state.copy()
-        solved = self._solve(
-            geometry, self.settings if tol is None else self.given, tol, mask, carry, history
-        )
+        solved: Any = None
+        if tol is not None and self.law is None:
+            first = self._first_step(u, geometry, tol)
+            carry = {} if first is None else dict(first)
+        else:
+            carry = dict(self.carry)
+        if carry or tol is None or self.law is not None:
+            solved = self._solve(
+                geometry, self.settings if tol is None else self.given, tol, mask, carry, history
+            )
         if solved is None or not self._valid(solved[1]):
             # beyond validity: an infinite F_N (above any force target)
             self.beyond = d
