@@ -226,6 +226,8 @@ class _Driver:
         self.mesh = mesh_cache(cells)
         # the state of the committed step, continued by the next one
         self.carry: dict[str, Any] = {}
+        # the chord dF_N/dδ_N [mN/µm²] of the last held force solve (its next first step)
+        self.stiffness: float | None = None
         # the last δ_N [µm] found beyond the model's validity (force control)
         self.beyond: float | None = None
         self.period = (1 if settings.periodic else 2) * self.n * self.dx
@@ -275,8 +277,8 @@ class _Driver:
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([recorded]), contact_set=held, mesh=self.mesh,
-                carry=carry, law=self.law, law_state=law_state, reuse=self.reuse,
+                settings=chosen, record_steps=np.array([recorded]), contact_set=held,
+                mesh=self.mesh, carry=carry, law=self.law, law_state=law_state, reuse=self.reuse,
             )  # fmt: skip
         except NoConvergenceError as error:
             if settings.width_iterations == self.given.width_iterations:
@@ -290,9 +292,7 @@ class _Driver:
                 raise
             return None
 
-    def _first_step(
-        self, u: float, geometry: ContactGeometry, tol: float
-    ) -> dict[str, Any] | None:
+    def _first_step(self, u: float, geometry: ContactGeometry, tol: float) -> dict[str, Any] | None:
         """The state after the first step of a force trial's two-step loading (the committed
         δ_N at shift u [µm] from contact-free, on the trial's candidates ``geometry``), which
         does not depend on the trial's δ_N nor on the held set: solved once per shift,
