@@ -347,13 +347,12 @@ def _check_finite(
     )
 
 
-def _fixed_parts(
-    geometry: Any, n: int, width: str, reuse: dict[str, Any] | None
-) -> tuple[Any, ...]:
+def _fixed_parts(geometry: Any, n: int, width: str) -> tuple[Any, ...]:
     """What :func:`interacting_loading` needs of the candidates whatever the displacements:
     the slope of the rigid gap at the nodes (``width`` = "profile", else ``None``), the sorted
-    gaps [µm], the columns, the gaps, the stable gap order of every candidate (with ``reuse``
-    only) and the quadratures of the punch widths and the pair coefficients."""
+    gaps [µm], the columns, the gaps, a slot for the stable gap order of every candidate (set
+    by :func:`interacting_loading` when ``reuse`` meets the same candidates again) and the
+    quadratures of the punch widths and the pair coefficients."""
     slope = None
     if width == "profile":
         # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
@@ -366,8 +365,7 @@ def _fixed_parts(
     names = ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
     raw = [np.asarray(getattr(geometry, name), dtype=np.float64) for name in names]
     raw_gap0 = np.asarray(geometry.gap0, dtype=np.float64)
-    by_gap = None if reuse is None else np.argsort(raw_gap0, kind="stable")
-    return slope, all_gap0, raw, raw_gap0, by_gap, (*_punch_quadrature(), *_quadrature())
+    return slope, all_gap0, raw, raw_gap0, None, (*_punch_quadrature(), *_quadrature())
 
 
 def interacting_loading(
@@ -477,9 +475,12 @@ def interacting_loading(
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
     fixed = None if reuse is None else reuse.get("fixed")
     if fixed is None or fixed[0] is not geometry.gap0 or fixed[1] != settings.width:
-        fixed = (geometry.gap0, settings.width, *_fixed_parts(geometry, n, settings.width, reuse))
+        fixed = (geometry.gap0, settings.width, *_fixed_parts(geometry, n, settings.width))
         if reuse is not None:
             reuse["fixed"] = fixed
+    elif fixed[6] is None:  # the same candidates again: their stable gap order, once
+        fixed = (*fixed[:6], np.argsort(fixed[5], kind="stable"), fixed[7])
+        reuse["fixed"] = fixed  # type: ignore[index]
     _, _, slope, all_gap0, raw, raw_gap0, by_gap, quadratures = fixed
     from .interaction_kernel import run_steps
     from .interaction_operator import _MAX_INNER, mesh_cache
