@@ -16,7 +16,8 @@ configuration (u_T, δ_N) of the upper body:
   at δ_N = 0). The contact widths get at least ``WIDTH_ITERATIONS`` updates per
   displacement-controlled step. A force-controlled step does not continue the state: every
   trial is a two-step loading at the current shift (the previous δ_N from contact-free, then
-  the trial's) with the settings' own number of width updates.
+  the trial's) with the settings' own number of width updates; its first step does not
+  depend on the trial and is solved once per shift (:meth:`_Driver._first_step`).
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -25,10 +26,12 @@ configuration (u_T, δ_N) of the upper body:
   each trial a full coupled solve at the step's shift with the springs not committed and the
   contact-level solve tightened to ``FORCE_SOLVE_TOL``. The free F_N(δ_N) jumps where eq. 9
   accepts or drops a contact, so, as the non-interacting path does, the step's contact set
-  (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
+  (and the springs' migration window) is held through the solve
+  (:func:`.interaction_force._force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
   nothing; the first step of every trial does not depend on it), and F_N(δ_N) is
-  continuous (secant steps, :func:`_solve_continuous`). The set is
+  continuous (secant steps, :func:`.interaction_force._solve_continuous`, the first on the
+  chord dF_N/dδ_N of the last held solve). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
@@ -41,8 +44,9 @@ configuration (u_T, δ_N) of the upper body:
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
 
-The loop over steps runs in Python, each step one compiled coupled solve (cost in
-``docs/accuracy.md``).
+The loop over steps runs in Python, each step one compiled coupled solve; what does not change
+between the calls at one shift (the candidates and their surface spheres, their gap order,
+slopes and quadratures, the mesh kernels) is built once (cost in ``docs/accuracy.md``).
 """
 
 from __future__ import annotations
