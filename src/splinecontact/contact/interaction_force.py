@@ -39,18 +39,11 @@ class _HeldSetFails(Exception):
 
 
 def _solve_continuous(
-    target: float,
-    evaluate: Any,
-    d0: float,
-    f0: float,
-    scale: float,
-    stiffness: float | None = None,
+    target: float, evaluate: Any, d0: float, f0: float, scale: float
 ) -> tuple[float, float]:
     """δ_N with F_N(δ_N) = target [mN/µm] for an F_N continuous and increasing in δ_N (the
     contact set held): secant steps from (d0, f0) [µm, mN/µm], kept inside the bracket once
-    one is known (Illinois regula falsi where a secant step leaves it). The first step is a
-    Newton step on ``stiffness`` (an estimate of dF_N/dδ_N [mN/µm²], e.g. of the previous
-    solve; at most ``scale``/10), or a small probe without one. Returns (δ_N, F_N);
+    one is known (Illinois regula falsi where a secant step leaves it). Returns (δ_N, F_N);
     where F_N still jumps across the target (the remaining bracket at rounding level), the
     nearer side. Raises :class:`_HeldSetFails` where F_N falls ``MAX_FALLS`` times while δ_N
     moves towards the target before a bracket is found (the held set cannot carry it: its
@@ -65,8 +58,6 @@ def _solve_continuous(
     else:
         hi, r_hi = d0, r0
     step = math.copysign(max(1e-6 * scale, 1e-3 * abs(d0), 1e-12), -r0)
-    if stiffness is not None and math.isfinite(stiffness) and stiffness > 0.0:
-        step = math.copysign(min(max(abs(r0) / stiffness, abs(step)), 0.1 * scale), -r0)
     x0, x1 = d0, d0 + step
     side = 0
     falls = 0
@@ -141,23 +132,14 @@ def _force_step(driver: Any, u: float, target: float, tol: float) -> tuple[float
         out, seen[value] = driver.evaluate(u, value, False, tol, held)
         return out[0]
 
-    def held_solve(d: float, held: Held) -> float:
-        """δ_N of one held set from δ_N = d, its first step on the chord dF_N/dδ_N of the
-        last held solve (of this step or the previous one, kept in ``driver.stiffness``)."""
-        f0 = trial(d, held)
-        solved, f = _solve_continuous(
-            target, lambda v: trial(v, held), d, f0, scale, driver.stiffness
-        )
-        if solved != d and (f - f0) / (solved - d) > 0.0:
-            driver.stiffness = (f - f0) / (solved - d)
-        return solved
-
     def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held, int]:
         """δ_N, the held set and the code of the held solves from δ_N = d."""
         held, code = (cells, driver.window(u, d)), _fs.HELD_FIXED_SET
         for round_ in range(SET_ROUNDS):
             seen.clear()
-            d = held_solve(d, held)
+            d, _ = _solve_continuous(
+                target, lambda v, _h=held: trial(v, _h), d, trial(d, held), scale
+            )
             loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
             window = driver.window(u, d)
             if window == held[1] and np.array_equal(loaded, _loaded(seen[d])):

@@ -30,8 +30,7 @@ configuration (u_T, δ_N) of the upper body:
   (:func:`.interaction_force._force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
   nothing; the first step of every trial does not depend on it), and F_N(δ_N) is
-  continuous (secant steps, :func:`.interaction_force._solve_continuous`, the first on the
-  chord dF_N/dδ_N of the last held solve). The set is
+  continuous (secant steps, :func:`.interaction_force._solve_continuous`). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
@@ -230,8 +229,6 @@ class _Driver:
         self.mesh = mesh_cache(cells)
         # the state of the committed step, continued by the next one
         self.carry: dict[str, Any] = {}
-        # the chord dF_N/dδ_N [mN/µm²] of the last held force solve (its next first step)
-        self.stiffness: float | None = None
         # the last δ_N [µm] found beyond the model's validity (force control)
         self.beyond: float | None = None
         self.period = (1 if settings.periodic else 2) * self.n * self.dx
