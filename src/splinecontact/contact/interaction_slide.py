@@ -223,7 +223,7 @@ class _Driver:
         # what the coupled solve keeps of the current candidates (interacting_loading's reuse)
         self.reuse: dict[str, Any] = {}
         # the first step of the force trials at one shift: (u, δ_N, tol), candidates, state
-        self._first: tuple[tuple[float, float, float], Any, dict[str, Any] | None] | None = None
+        self._first: tuple[tuple[float, float, float], dict[str, Any] | None] | None = None
         # the meshes of the coupled solve (same period and E* at every step), built once
         cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
         self.mesh = mesh_cache(cells)
@@ -296,13 +296,16 @@ class _Driver:
     def _first_step(self, u: float, geometry: ContactGeometry, tol: float) -> dict[str, Any] | None:
         """The state after the first step of a force trial's two-step loading (the committed
         δ_N at shift u [µm] from contact-free, on the trial's candidates ``geometry``), which
-        does not depend on the trial's δ_N nor on the held set: solved once per shift,
-        committed δ_N and candidate columns, and continued by every trial (bit-identical to
-        solving it in each trial). ``None`` where it leaves the model's validity."""
+        does not depend on the trial's δ_N nor on the held set: solved once per shift and
+        committed δ_N, and continued by every trial (bit-identical to solving it in each
+        trial). ``None`` where it leaves the model's validity."""
         key = (u, self.d, tol)
         cached = self._first
-        if cached is not None and cached[0] == key and cached[1] is geometry.gap0:
-            return cached[2]
+        if cached is not None and cached[0] == key:
+            # the same, or more candidates (a larger gap limit at the same shift): those added
+            # have rigid gaps above the limit before, so above δ_N, and cannot touch in a first
+            # step from contact-free (eq. 9 tests gaps up to δ_N there)
+            return cached[1]
         carry: dict[str, Any] = {}
         start = dataclasses.replace(
             geometry, first_step_index=np.zeros(1, dtype=np.int64),
@@ -310,7 +313,7 @@ class _Driver:
         )  # fmt: skip
         solved = self._solve(start, self.given, tol, None, carry, recorded=0)
         first = None if solved is None else carry
-        self._first = (key, geometry.gap0, first)
+        self._first = (key, first)
         return first
 
     def _valid(self, contacts: tuple[ContactRecord, ...]) -> bool:
