@@ -48,7 +48,7 @@ def test_the_filter_keeps_every_point_the_exact_test_accepts(
     g, s1, s2, k_l, n_x, n_z = _point(s_l, c_l, c_u, ratio, g_scale)
     k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
     accepted = sphere_contact(g, k_l, k_u, m_x, m_z, -n_x, n_z, 0.5 * _DX, -reach)[0]
-    kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX * (1.0 + 1e-6), -reach)
+    kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX, reach)
     assert kept or not accepted
 
 
@@ -60,7 +60,7 @@ def test_the_filter_comparison_is_not_vacuous() -> None:
         g, s1, s2, k_l, n_x, n_z = _point(0.3, -200.0, -300.0, ratio, -1e-5)
         k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
         accepted = sphere_contact(g, k_l, k_u, m_x, m_z, -n_x, n_z, 0.5 * _DX, 0.0)[0]
-        kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX * (1.0 + 1e-6), 0.0)
+        kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX, 0.0)
         outcomes.append((accepted, kept))
     assert outcomes[2] == (True, True)
     assert (False, False) in outcomes

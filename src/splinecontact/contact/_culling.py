@@ -262,7 +262,13 @@ def candidate_bounds(
     return count
 
 
-@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+#: Relative width of the filter's widened tests (:func:`_may_touch`), far above the rounding
+#: error of both its arithmetic and that of :func:`.geometry.sphere_contact` (< 10⁻¹³, a few
+#: hundred units in the last place of float64, of the same magnitudes).
+FILTER_SLACK = 1e-12
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
 def _may_touch(
     g: float,
     s1: float,
@@ -271,38 +277,66 @@ def _may_touch(
     n_x: float,
     n_z: float,
     kappa_max: float,
-    lim: float,
-    min_delta: float,
+    dx: float,
+    reach: float,
 ) -> bool:  # pragma: no cover - compiled
-    """The conservative filter of :func:`.path_kernel._filter_closed` for one point.
+    """Whether a closed point may pass Table 1, δ > −reach and eq. 9 (a conservative filter).
 
-    The values of :func:`.geometry.sphere_contact` (and of the kernel's upper sphere),
-    operation for operation, so that for the same g, s1, s2 the overlap δ and the eq. 9
-    numerator are the same to the bit; only the last division is replaced by a widened
-    comparison (eq. 9 by a relative 10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale). Dividing
-    or rounding differently would not be conservative where the curvatures nearly vanish
-    (``tests/test_path_filter.py``).
+    Never false where :func:`.geometry.sphere_contact` (with the kernel's upper sphere of
+    slope s1 and f″ s2) accepts; the points it keeps are decided by that exact test. It uses
+    cheaper arithmetic: one reciprocal r = 1/√(1 + s1²), m = (s1·r, r), κ^u = −s2·r³
+    (clamped), and no division in the tests, which are those of eq. 10 and eq. 9 multiplied
+    through by their positive denominators D = |Y| + κ^l + κ^u and 2|Y|:
+
+    * Table 1: κ^l + κ^u > −E₀;
+    * δ > −reach: N + reach·D > −E_δ (N the numerator of δ = N/D);
+    * eq. 9: |2(m_x − n_x)·D + N·W| ≤ dx·|Y|·D + E₉ (W = κ^u n_x − κ^l m_x: the numerator
+      of the offset times D).
+
+    Each widening E is ``FILTER_SLACK`` = 10⁻¹² times a bound of the sum of the magnitudes of
+    the terms of its test (the test with every term replaced by its absolute value): with
+    |m|, |n| ≤ 1, |κ^l|, |κ^u| ≤ K = ``kappa_max`` (both are clamped) and q = K·|g|,
+    |N| ≤ 4 + q(q + 4), |Y| ≤ K(3 + q), D ≤ K(5 + q), |W| ≤ 2K and |m_x − n_x| ≤ 2, so
+    E₀ = 10⁻¹²·2K, E_δ = 10⁻¹²·(4 + q(q + 4) + reach·K(5 + q)) and
+    E₉ = 10⁻¹²·(4K(5 + q) + 2K(4 + q(q + 4)) + dx·K²(3 + q)(5 + q)). Both this arithmetic and
+    the exact test's differ from the real-number values of the same quantities by less than
+    10⁻¹³ of those magnitudes (a forward error bound of each term: factors with relative
+    errors of at most 8 units of 2⁻⁵³ — the square roots, the reciprocal, r³ — through at most
+    some 30 roundings); and rounding is monotonic, so an accepted δ = fl(N/D) > −reach means
+    N > −reach·D for the exact test's own N and D (D > 0 there), and an accepted offset
+    |fl(O/2|Y|)| ≤ dx/2 means |O| ≤ dx·|Y|·(1 + 2⁻⁵³). So the widened tests keep every point
+    the exact test accepts, also where κ^l + κ^u, |Y| or N nearly vanish (the widening then
+    decides: the point is kept). A NaN keeps the point (each test is written as "refused when
+    clearly outside").
     """
-    norm_u = math.sqrt(1.0 + s1 * s1)
-    k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
-    m_x = s1 / norm_u
-    m_z = 1.0 / norm_u
+    r = 1.0 / math.sqrt(1.0 + s1 * s1)
+    k_u = min(max(-s2 * (r * (r * r)), -kappa_max), kappa_max)
+    m_x = s1 * r
     k_sum = k_l + k_u
     k_prod = k_u * k_l
+    a = k_l * r + k_u * n_z
     y_x = k_l * m_x + k_u * n_x
-    y_z = k_prod * g + k_l * m_z + k_u * n_z
+    y_z = k_prod * g + a
     y_norm = math.sqrt(y_x * y_x + y_z * y_z)
     dmx = m_x - n_x
-    dmz = m_z - n_z
-    num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
-    delta = num / (y_norm + k_sum)
-    off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
-    return (
-        (k_sum > 0.0)
-        & (y_norm > 0.0)
-        & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
-        & (abs(off) <= lim * y_norm)
+    dmz = r - n_z
+    num = dmx * dmx + dmz * dmz - g * (y_z + a)
+    den = y_norm + k_sum
+    z = 2.0 * dmx * den + num * (k_u * n_x - k_l * m_x)
+    # the widenings (docstring), polynomials in q = K|g| (their coefficients are loop-invariant)
+    big = kappa_max
+    q = big * abs(g)
+    e_d = FILTER_SLACK * ((4.0 + 5.0 * reach * big) + q * ((4.0 + reach * big) + q))
+    dk2 = dx * big * big
+    e_9 = FILTER_SLACK * (
+        (28.0 * big + 15.0 * dk2) + q * ((12.0 * big + 8.0 * dk2) + q * (2.0 * big + dk2))
     )
+    refused = (
+        (k_sum < -FILTER_SLACK * 2.0 * big)
+        | (num + reach * den < -e_d)
+        | (abs(z) > dx * y_norm * den + e_9)
+    )
+    return not refused
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -332,8 +366,6 @@ def _run_flags(
     itself: passing it to a function called per run costs more than the run's arithmetic).
     """
     inv_dx = 1.0 / dx
-    lim = dx * (1.0 + 1e-6)
-    min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
         xi = (i0 + p) - shift
@@ -351,9 +383,7 @@ def _run_flags(
         g = (placement - (h_u + f_l[p])) - d
         closed = same & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(
-            g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
-        )
+        keep = closed & _may_touch(g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach)
         flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
     return n_closed
 
@@ -375,8 +405,6 @@ def _knot_flags(
     flags: NDArray[np.uint8],
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
-    lim = dx * (1.0 + 1e-6)
-    min_delta = -reach
     n_closed = 0
     for p in range(flags.size):
         s1 = slope_u[p]
@@ -384,7 +412,7 @@ def _knot_flags(
         closed = not g > reach
         n_closed += closed
         keep = closed & _may_touch(
-            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
+            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach
         )
         flags[p] = np.uint8(keep)
     return n_closed

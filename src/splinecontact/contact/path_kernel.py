@@ -252,10 +252,10 @@ def _filter_closed(
     nx_a = scratch.cl_nx
     nz_a = scratch.cl_nz
     keep = scratch.cl_keep
-    lim = 2.0 * half_dx * (1.0 + 1e-6)
+    dx = 2.0 * half_dx
     for q in range(n_cl):
         keep[q] = _may_touch(
-            g_a[q], s1_a[q], s2_a[q], kl_a[q], nx_a[q], nz_a[q], kappa_max, lim, min_delta
+            g_a[q], s1_a[q], s2_a[q], kl_a[q], nx_a[q], nz_a[q], kappa_max, dx, -min_delta
         )
 
 
@@ -573,13 +573,12 @@ def _fixed_flags(
     ``flags`` is 1 where it is closed and passes the conservative filter of
     :func:`._culling._may_touch`, else 0. Returns the number of closed candidates.
     """
-    lim = dx * (1.0 + 1e-6)
     n_closed = 0
     for j in range(flags.size):
         g = g0[j] - d
         closed = (bound[j] >= threshold) & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(g, s1[j], s2[j], k_l[j], n_x[j], n_z[j], kappa_max, lim, -reach)
+        keep = closed & _may_touch(g, s1[j], s2[j], k_l[j], n_x[j], n_z[j], kappa_max, dx, reach)
         flags[j] = np.uint8(keep)
     return n_closed
 
