@@ -1,7 +1,7 @@
 """The load-path kernels' conservative eq. 9 filter never drops a contact the exact test accepts.
 
 The sliding and fixed-shift steps flag, in one branch-free pass, the closed points that may pass
-Table 1, δ > −reach and eq. 9 (``_culling._may_touch``: the tests of
+Table 1, δ > −reach and eq. 9 (``_filter._may_touch``: the tests of
 ``geometry.sphere_contact`` multiplied through by their positive denominators and widened);
 only the flagged points are decided exactly. Here the filter is checked against the exact test
 itself on points drawn around the eq. 9 boundary (upper slope s1 = −s^l + ε with ε set so that
@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.contact._culling import _may_touch
+from splinecontact.contact._filter import _may_touch
 from splinecontact.contact.geometry import sphere_contact
 from splinecontact.contact.path_kernel import _upper_sphere
 

@@ -14,6 +14,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._filter import _may_touch
+
 __all__ = [
     "SPHERE_BLOCK",
     "Culling",
@@ -262,83 +264,6 @@ def candidate_bounds(
     return count
 
 
-#: Relative width of the filter's widened tests (:func:`_may_touch`), far above the rounding
-#: error of both its arithmetic and that of :func:`.geometry.sphere_contact` (< 10⁻¹³, a few
-#: hundred units in the last place of float64, of the same magnitudes).
-FILTER_SLACK = 1e-12
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
-def _may_touch(
-    g: float,
-    s1: float,
-    s2: float,
-    k_l: float,
-    n_x: float,
-    n_z: float,
-    kappa_max: float,
-    dx: float,
-    reach: float,
-) -> bool:  # pragma: no cover - compiled
-    """Whether a closed point may pass Table 1, δ > −reach and eq. 9 (a conservative filter).
-
-    Never false where :func:`.geometry.sphere_contact` (with the kernel's upper sphere of
-    slope s1 and f″ s2) accepts; the points it keeps are decided by that exact test. It uses
-    cheaper arithmetic: one reciprocal r = 1/√(1 + s1²), m = (s1·r, r), κ^u = −s2·r³
-    (clamped), and no division in the tests, which are those of eq. 10 and eq. 9 multiplied
-    through by their positive denominators D = |Y| + κ^l + κ^u and 2|Y|:
-
-    * Table 1: κ^l + κ^u > −E₀;
-    * δ > −reach: N + reach·D > −E_δ (N the numerator of δ = N/D);
-    * eq. 9: |2(m_x − n_x)·D + N·W| ≤ dx·|Y|·D + E₉ (W = κ^u n_x − κ^l m_x: the numerator
-      of the offset times D).
-
-    Each widening E is ``FILTER_SLACK`` = 10⁻¹² times a bound of the sum of the magnitudes of
-    the terms of its test (the test with every term replaced by its absolute value): with
-    |m|, |n| ≤ 1, |κ^l|, |κ^u| ≤ K = ``kappa_max`` (both are clamped) and q = K·|g|,
-    |N| ≤ 4 + q(q + 4), |Y| ≤ K(3 + q), D ≤ K(5 + q), |W| ≤ 2K and |m_x − n_x| ≤ 2, so
-    E₀ = 10⁻¹²·2K, E_δ = 10⁻¹²·(4 + q(q + 4) + reach·K(5 + q)) and
-    E₉ = 10⁻¹²·(4K(5 + q) + 2K(4 + q(q + 4)) + dx·K²(3 + q)(5 + q)). Both this arithmetic and
-    the exact test's differ from the real-number values of the same quantities by less than
-    10⁻¹³ of those magnitudes (a forward error bound of each term: factors with relative
-    errors of at most 8 units of 2⁻⁵³ — the square roots, the reciprocal, r³ — through at most
-    some 30 roundings); and rounding is monotonic, so an accepted δ = fl(N/D) > −reach means
-    N > −reach·D for the exact test's own N and D (D > 0 there), and an accepted offset
-    |fl(O/2|Y|)| ≤ dx/2 means |O| ≤ dx·|Y|·(1 + 2⁻⁵³). So the widened tests keep every point
-    the exact test accepts, also where κ^l + κ^u, |Y| or N nearly vanish (the widening then
-    decides: the point is kept). A NaN keeps the point (each test is written as "refused when
-    clearly outside").
-    """
-    r = 1.0 / math.sqrt(1.0 + s1 * s1)
-    k_u = min(max(-s2 * (r * (r * r)), -kappa_max), kappa_max)
-    m_x = s1 * r
-    k_sum = k_l + k_u
-    k_prod = k_u * k_l
-    a = k_l * r + k_u * n_z
-    y_x = k_l * m_x + k_u * n_x
-    y_z = k_prod * g + a
-    y_norm = math.sqrt(y_x * y_x + y_z * y_z)
-    dmx = m_x - n_x
-    dmz = r - n_z
-    num = dmx * dmx + dmz * dmz - g * (y_z + a)
-    den = y_norm + k_sum
-    z = 2.0 * dmx * den + num * (k_u * n_x - k_l * m_x)
-    # the widenings (docstring), polynomials in q = K|g| (their coefficients are loop-invariant)
-    big = kappa_max
-    q = big * abs(g)
-    e_d = FILTER_SLACK * ((4.0 + 5.0 * reach * big) + q * ((4.0 + reach * big) + q))
-    dk2 = dx * big * big
-    e_9 = FILTER_SLACK * (
-        (28.0 * big + 15.0 * dk2) + q * ((12.0 * big + 8.0 * dk2) + q * (2.0 * big + dk2))
-    )
-    refused = (
-        (k_sum < -FILTER_SLACK * 2.0 * big)
-        | (num + reach * den < -e_d)
-        | (abs(z) > dx * y_norm * den + e_9)
-    )
-    return not refused
-
-
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _run_flags(
     i0: int,
@@ -356,6 +281,7 @@ def _run_flags(
     f_u: NDArray[np.float64],
     gamma_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
 
@@ -364,8 +290,10 @@ def _run_flags(
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
     (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
     itself: passing it to a function called per run costs more than the run's arithmetic).
+    ``values`` receives each point's gap g, S′ and S″ (read back for the points flagged 1).
     """
     inv_dx = 1.0 / dx
+    g_out, s1_out, s2_out = values
     n_closed = 0
     for p in range(flags.size):
         xi = (i0 + p) - shift
@@ -381,6 +309,9 @@ def _run_flags(
         s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
         s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
         g = (placement - (h_u + f_l[p])) - d
+        g_out[p] = g
+        s1_out[p] = s1
+        s2_out[p] = s2
         closed = same & (not g > reach)
         n_closed += closed
         keep = closed & _may_touch(g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach)
@@ -403,12 +334,17 @@ def _knot_flags(
     slope_u: NDArray[np.float64],
     curv_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
+    g_out, s1_out, s2_out = values
     n_closed = 0
     for p in range(flags.size):
         s1 = slope_u[p]
         g = (placement - (f_u[p] + f_l[p])) - d
+        g_out[p] = g
+        s1_out[p] = s1
+        s2_out[p] = curv_u[p]
         closed = not g > reach
         n_closed += closed
         keep = closed & _may_touch(
@@ -427,8 +363,12 @@ def _flag_run(
     d: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
-    """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed."""
+    """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed.
+
+    ``values`` (three arrays aligned with ``flags``) receives g, S′ and S″ of the points
+    inside the upper body (those not flagged 2 for it)."""
     top = surf.f_u.size - 2  # last knot interval
     k0 = math.floor(i0 - shift)
     p_lo = min(max(0, -k0), length)
@@ -446,17 +386,18 @@ def _flag_run(
         if not surf.sphere_done[blk]:  # (a call costs more than the test)
             fill_spheres(surf, a, e)
             break
+    part = (values[0][p_lo:p_hi], values[1][p_lo:p_hi], values[2][p_lo:p_hi])
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
             d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
             surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
-            surf.curv_u[b : b + e - a], flags[p_lo:p_hi],
+            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part,
         )  # fmt: skip
     return _run_flags(
         a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
         surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
-        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi],
+        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part,
     )  # fmt: skip
 
 
@@ -470,18 +411,19 @@ def sliding_flags(
     threshold: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """Closed candidates that may pass Table 1, δ > −reach and eq. 9 at shift u/dx (``flags``).
 
     A branch-free pass over the candidates (grid order) of a rough upper body, run by runs of
     consecutive points (:func:`_run_flags`): the shifted spline's height, slope and f″ at
     ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
-    evaluation, so the values are the same to the bit), the gap g, and the conservative eq. 9
-    filter of the kernel (tests widened by a relative 10⁻⁶ of dx/2 and 10⁻⁹ of the overlap
-    scale). ``flags[j]`` is 1 for the candidates that are inside the upper body, have
-    ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset of those the exact
-    tests accept), 2 for the few the pass could not decide (to be evaluated alone), 0 for the
-    rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
+    evaluation, so the values are the same to the bit; written to ``values``, three arrays
+    aligned with ``flags``: g, S′, S″), the gap g, and the conservative filter
+    :func:`._filter._may_touch`. ``flags[j]`` is 1 for the candidates that are inside the
+    upper body, have ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset
+    of those the exact tests accept), 2 for the few the pass could not decide (to be evaluated
+    alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
     those flagged 0 or 1.
     """
     m = cand.size
@@ -492,7 +434,10 @@ def sliding_flags(
         j1 = j0 + 1
         while j1 < m and cand[j1] == i0 + (j1 - j0):
             j1 += 1
-        n_closed += _flag_run(surf, i0, j1 - j0, shift, d, reach, flags[j0:j1])
+        n_closed += _flag_run(
+            surf, i0, j1 - j0, shift, d, reach, flags[j0:j1],
+            (values[0][j0:j1], values[1][j0:j1], values[2][j0:j1]),
+        )  # fmt: skip
         j0 = j1
     return n_closed
 
@@ -593,13 +538,19 @@ def run_flags(
     d: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
-    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order)."""
+    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order);
+    ``values`` (aligned with ``flags``) receives g, S′, S″ of the points inside the upper
+    body, the same values as the scalar evaluation's (:func:`sliding_flags`)."""
     n_closed = 0
     o = 0
     for r in range(n_runs):
         length = run_len[r]
-        n_closed += _flag_run(surf, run_start[r], length, shift, d, reach, flags[o : o + length])
+        run = (values[0][o : o + length], values[1][o : o + length], values[2][o : o + length])
+        n_closed += _flag_run(
+            surf, run_start[r], length, shift, d, reach, flags[o : o + length], run
+        )
         o += length
     return n_closed
 
