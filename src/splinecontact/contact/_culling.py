@@ -423,8 +423,8 @@ def sliding_flags(
     :func:`._filter._may_touch`. ``flags[j]`` is 1 for the candidates that are inside the
     upper body, have ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset
     of those the exact tests accept), 2 for the few the pass could not decide (to be evaluated
-    alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
-    those flagged 0 or 1.
+    alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold,
+    g ≤ reach) among those flagged 0 or 1.
     """
     m = cand.size
     n_closed = 0
