@@ -1,7 +1,7 @@
 """The load-path kernels' conservative eq. 9 filter never drops a contact the exact test accepts.
 
 The sliding and fixed-shift steps flag, in one branch-free pass, the closed points that may pass
-Table 1, δ > −reach and eq. 9 (``_culling._may_touch``: the tests of
+Table 1, δ > −reach and eq. 9 (``_filter._may_touch``: the tests of
 ``geometry.sphere_contact`` multiplied through by their positive denominators and widened);
 only the flagged points are decided exactly. Here the filter is checked against the exact test
 itself on points drawn around the eq. 9 boundary (upper slope s1 = −s^l + ε with ε set so that
@@ -11,12 +11,15 @@ reach: every point the exact test accepts must pass the filter.
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 
+import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.contact._culling import _may_touch
+from splinecontact.contact._filter import _may_touch
 from splinecontact.contact.geometry import sphere_contact
 from splinecontact.contact.path_kernel import _upper_sphere
 
@@ -48,7 +51,7 @@ def test_the_filter_keeps_every_point_the_exact_test_accepts(
     g, s1, s2, k_l, n_x, n_z = _point(s_l, c_l, c_u, ratio, g_scale)
     k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
     accepted = sphere_contact(g, k_l, k_u, m_x, m_z, -n_x, n_z, 0.5 * _DX, -reach)[0]
-    kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX * (1.0 + 1e-6), -reach)
+    kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX, reach)
     assert kept or not accepted
 
 
@@ -60,7 +63,171 @@ def test_the_filter_comparison_is_not_vacuous() -> None:
         g, s1, s2, k_l, n_x, n_z = _point(0.3, -200.0, -300.0, ratio, -1e-5)
         k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
         accepted = sphere_contact(g, k_l, k_u, m_x, m_z, -n_x, n_z, 0.5 * _DX, 0.0)[0]
-        kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX * (1.0 + 1e-6), 0.0)
+        kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX, 0.0)
         outcomes.append((accepted, kept))
     assert outcomes[2] == (True, True)
     assert (False, False) in outcomes
+
+
+def _sphere_point(
+    s_l: float, s1: float, k_u: float, k_l: float
+) -> tuple[float, float, float, float, float]:
+    """(s2, κ^l, n^l_x, n^l_z, κ^u as the kernel evaluates it) for target curvatures κ^u, κ^l."""
+    norm_l = math.sqrt(1.0 + s_l * s_l)
+    s2 = -k_u * math.sqrt(1.0 + s1 * s1) ** 3
+    k_l = min(max(k_l, -_KAPPA_MAX), _KAPPA_MAX)
+    return s2, k_l, -s_l / norm_l, 1.0 / norm_l, _upper_sphere(s1, s2, _KAPPA_MAX)[0]
+
+
+def _check(
+    g: float, s1: float, s2: float, k_l: float, n_x: float, n_z: float, reach: float
+) -> bool:
+    """Assert that the filter keeps the point if the exact test accepts it; return the latter."""
+    k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
+    accepted = sphere_contact(g, k_l, k_u, m_x, m_z, n_x, n_z, 0.5 * _DX, -reach)[0]
+    kept = _may_touch(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, reach)
+    assert kept or not accepted, (g, s1, s2, k_l, n_x, n_z, reach)
+    return bool(accepted)
+
+
+_TINY = st.sampled_from([0.0, 5e-324, 1e-300, 1e-200, 1e-30, 1e-17, 1e-16, 3e-16, 1e-15, 1e-12])
+
+
+@settings(max_examples=600, deadline=None)
+@given(
+    s_l=st.floats(-3.0, 3.0),
+    slope_gap=st.one_of(_TINY, st.floats(-1e-3, 1e-3)),
+    k_u=st.one_of(st.floats(-2.5e4, 2.5e4), st.floats(-1e-6, 1e-6)),
+    cancel=st.one_of(_TINY, st.floats(-1e-6, 1e-6), st.floats(-2.0, 2.0)),
+    g=st.one_of(_TINY, st.floats(-1e-9, 1e-9), st.floats(-1e-3, 1e-4)),
+    reach=st.sampled_from([0.0, 1e-9, 1e-6, 1e-4, 1e-2]),
+    sign=st.sampled_from([-1.0, 1.0]),
+)
+def test_the_filter_keeps_every_accepted_point_where_the_test_is_ill_conditioned(
+    s_l: float,
+    slope_gap: float,
+    k_u: float,
+    cancel: float,
+    g: float,
+    reach: float,
+    sign: float,
+) -> None:
+    """κ^l + κ^u near zero (κ^l = −κ^u(1 + ε)), |Y| near zero (matching slopes, equal and
+    opposite curvatures, g ≈ 0), gaps near zero and within a law's reach, tiny curvatures:
+    where both computations round most differently, no accepted point is dropped."""
+    s1 = -s_l + sign * slope_gap
+    s2, k_l, n_x, n_z, k_u_kernel = _sphere_point(s_l, s1, k_u, 0.0)
+    k_l = min(max(-k_u_kernel * (1.0 + cancel), -_KAPPA_MAX), _KAPPA_MAX)
+    _check(sign * g, s1, s2, k_l, n_x, n_z, reach)
+
+
+def test_the_ill_conditioned_points_are_accepted_and_kept() -> None:
+    """Near-cancelling curvature sums and near-zero |Y| at which the exact test does accept
+    (the property above is not vacuous there), on a deterministic grid."""
+    accepted = 0
+    for s_l in (0.0, 0.4, -1.7):
+        for k_u in (3e3, -3e3, 1e-3, 2e4):
+            for cancel in (-1e-15, -1e-12, -1e-9, -1e-6, -1e-3, 0.5):
+                for g in (-1e-18, -1e-12, -1e-7, 0.0, 1e-9):
+                    for reach in (0.0, 1e-6, 1e-2):
+                        s1 = -s_l + 1e-9
+                        s2, _, n_x, n_z, k_u_kernel = _sphere_point(s_l, s1, k_u, 0.0)
+                        k_l = -k_u_kernel * (1.0 + cancel)
+                        accepted += _check(g, s1, s2, k_l, n_x, n_z, reach)
+    assert accepted > 100
+
+
+def test_the_widening_keeps_few_points_the_exact_test_refuses() -> None:
+    """The widening does not make the filter vacuous: on random closed points (about half of
+    them refused by eq. 9, their contact centre in another cell) the filter keeps every point
+    the exact test accepts and hardly any other."""
+    rng = np.random.default_rng(5)
+    kept = accepted = 0
+    total = 2000
+    for _ in range(total):
+        s_l = rng.uniform(-0.5, 0.5)
+        s1 = -s_l + rng.uniform(-0.05, 0.05)
+        s2, k_l, n_x, n_z, _ = _sphere_point(s_l, s1, rng.uniform(-50, 300), rng.uniform(-50, 300))
+        g = rng.uniform(-1e-4, 0.0)
+        accepted += _check(g, s1, s2, k_l, n_x, n_z, 0.0)
+        kept += _may_touch(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, 0.0)
+    assert 0.2 * total < accepted <= kept <= accepted + 2 < 0.8 * total
+
+
+def _edge(accepts: Callable[[float], bool], inside: float, outside: float) -> float:
+    """The last accepted float between ``inside`` (accepted) and ``outside`` (refused), by
+    bisection down to adjacent floats: a point the exact test accepts by the last ulp."""
+    assert accepts(inside) and not accepts(outside)
+    while True:
+        mid = 0.5 * (inside + outside)
+        if mid in (inside, outside):
+            return inside
+        if accepts(mid):
+            inside = mid
+        else:
+            outside = mid
+
+
+def _accepts(
+    s1: float,
+    g: float,
+    *args: float,
+    rest: tuple[float, ...] = (),
+) -> bool:
+    """The exact test at upper slope s1, gap g; ``args`` or ``rest``: s2, κ^l, n_x, n_z, reach."""
+    s2, k_l, n_x, n_z, reach = args or rest
+    k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
+    return bool(sphere_contact(g, k_l, k_u, m_x, m_z, n_x, n_z, 0.5 * _DX, -reach)[0])
+
+
+def _accepts_at_slope(g: float, rest: tuple[float, ...], s1: float) -> bool:
+    return _accepts(s1, g, rest=rest)
+
+
+def _edge_cases() -> list[tuple[float, float, float, float, float, float, float]]:
+    """Points on the float-level boundary of each exact test (eq. 9 on both sides of the cell,
+    δ > −reach, Table 1), for curvatures from well- to ill-conditioned."""
+    out = []
+    rng = np.random.default_rng(12)
+    configurations = [
+        (0.3, -300.0, -200.0, 0.0),
+        (-1.2, 5e3, 40.0, 1e-4),
+        (0.05, 2e4, -1.9e4, 0.0),
+        (0.7, 1e3, -1e3 * (1.0 - 1e-9), 1e-6),
+        (0.0, 1e-3, 2e-3, 1e-2),
+    ]
+    for _ in range(60):
+        k_u = float(rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(-3.0, 4.3))
+        k_l = float(-k_u * (1.0 + rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(-12.0, 0.5)))
+        reach = float(rng.choice([0.0, 1e-6, 1e-4]))
+        configurations.append((float(rng.uniform(-2.0, 2.0)), k_u, k_l, reach))
+    for s_l, k_u, k_l, reach in configurations:
+        s2, k_l, n_x, n_z, _ = _sphere_point(s_l, -s_l, k_u, k_l)
+        rest = (s2, k_l, n_x, n_z, reach)
+        g = -1e-6
+        for side in (-1.0, 1.0):  # eq. 9 at −dx/2 and +dx/2: the slope mismatch
+            far = -s_l + side * 2.0
+            if _accepts(-s_l, g, *rest) and not _accepts(far, g, *rest):
+                s1 = _edge(functools.partial(_accepts_at_slope, g, rest), -s_l, far)
+                out.append((g, s1, *rest))
+        s1 = -s_l + 1e-7
+        if _accepts(s1, 0.0, *rest) and not _accepts(s1, 1.0, *rest):  # δ > −reach: the gap
+            g = _edge(functools.partial(_accepts, s1, rest=rest), 0.0, 1.0)
+            out.append((g, s1, *rest))
+        # Table 1: κ^l at the smallest κ^l + κ^u > 0 (matching slopes, zero gap, reach > 0)
+        k_u_kernel = _upper_sphere(-s_l, s2, _KAPPA_MAX)[0]
+        k_edge = math.nextafter(-k_u_kernel, math.inf)
+        table_1 = (s2, k_edge, n_x, n_z, max(reach, 1e-9))
+        if _accepts(-s_l, 0.0, *table_1):  # (else eq. 9 refuses it: |Y| is tiny)
+            out.append((0.0, -s_l, *table_1))
+    return out
+
+
+def test_the_filter_keeps_the_points_accepted_by_the_last_ulp() -> None:
+    """On the float-level boundary of every exact test (found by bisection) the accepted
+    point is kept: the widening covers the different rounding of the two computations.
+    (Without it, the filter's own rounding falls on the wrong side of some of these.)"""
+    cases = _edge_cases()
+    assert len(cases) >= 80
+    for g, s1, s2, k_l, n_x, n_z, reach in cases:
+        assert _check(g, s1, s2, k_l, n_x, n_z, reach)

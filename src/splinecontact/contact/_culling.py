@@ -14,6 +14,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from ._filter import _may_touch
+
 __all__ = [
     "SPHERE_BLOCK",
     "Culling",
@@ -262,49 +264,6 @@ def candidate_bounds(
     return count
 
 
-@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def _may_touch(
-    g: float,
-    s1: float,
-    s2: float,
-    k_l: float,
-    n_x: float,
-    n_z: float,
-    kappa_max: float,
-    lim: float,
-    min_delta: float,
-) -> bool:  # pragma: no cover - compiled
-    """The conservative filter of :func:`.path_kernel._filter_closed` for one point.
-
-    The values of :func:`.geometry.sphere_contact` (and of the kernel's upper sphere),
-    operation for operation, so that for the same g, s1, s2 the overlap δ and the eq. 9
-    numerator are the same to the bit; only the last division is replaced by a widened
-    comparison (eq. 9 by a relative 10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale). Dividing
-    or rounding differently would not be conservative where the curvatures nearly vanish
-    (``tests/test_path_filter.py``).
-    """
-    norm_u = math.sqrt(1.0 + s1 * s1)
-    k_u = min(max(-s2 / (norm_u * norm_u * norm_u), -kappa_max), kappa_max)
-    m_x = s1 / norm_u
-    m_z = 1.0 / norm_u
-    k_sum = k_l + k_u
-    k_prod = k_u * k_l
-    y_x = k_l * m_x + k_u * n_x
-    y_z = k_prod * g + k_l * m_z + k_u * n_z
-    y_norm = math.sqrt(y_x * y_x + y_z * y_z)
-    dmx = m_x - n_x
-    dmz = m_z - n_z
-    num = dmx * dmx + dmz * dmz - k_prod * g * g - 2.0 * g * (k_l * m_z + k_u * n_z)
-    delta = num / (y_norm + k_sum)
-    off = 2.0 * dmx + delta * (k_u * n_x - k_l * m_x)
-    return (
-        (k_sum > 0.0)
-        & (y_norm > 0.0)
-        & (delta > min_delta - 1e-9 * (abs(delta) + abs(min_delta) + abs(g)))
-        & (abs(off) <= lim * y_norm)
-    )
-
-
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _run_flags(
     i0: int,
@@ -322,6 +281,7 @@ def _run_flags(
     f_u: NDArray[np.float64],
     gamma_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
 
@@ -330,10 +290,10 @@ def _run_flags(
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
     (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
     itself: passing it to a function called per run costs more than the run's arithmetic).
+    ``values`` receives each point's gap g, S′ and S″ (read back for the points flagged 1).
     """
     inv_dx = 1.0 / dx
-    lim = dx * (1.0 + 1e-6)
-    min_delta = -reach
+    g_out, s1_out, s2_out = values
     n_closed = 0
     for p in range(flags.size):
         xi = (i0 + p) - shift
@@ -349,11 +309,12 @@ def _run_flags(
         s1 = (fk1 - fk + (g1 * (3.0 * t * t - 1.0) - g0 * (3.0 * w * w - 1.0)) / 6.0) * inv_dx
         s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
         g = (placement - (h_u + f_l[p])) - d
+        g_out[p] = g
+        s1_out[p] = s1
+        s2_out[p] = s2
         closed = same & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(
-            g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
-        )
+        keep = closed & _may_touch(g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach)
         flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
     return n_closed
 
@@ -373,18 +334,21 @@ def _knot_flags(
     slope_u: NDArray[np.float64],
     curv_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
-    lim = dx * (1.0 + 1e-6)
-    min_delta = -reach
+    g_out, s1_out, s2_out = values
     n_closed = 0
     for p in range(flags.size):
         s1 = slope_u[p]
         g = (placement - (f_u[p] + f_l[p])) - d
+        g_out[p] = g
+        s1_out[p] = s1
+        s2_out[p] = curv_u[p]
         closed = not g > reach
         n_closed += closed
         keep = closed & _may_touch(
-            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, lim, min_delta
+            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach
         )
         flags[p] = np.uint8(keep)
     return n_closed
@@ -399,8 +363,12 @@ def _flag_run(
     d: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
-    """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed."""
+    """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed.
+
+    ``values`` (three arrays aligned with ``flags``) receives g, S′ and S″ of the points
+    inside the upper body (those not flagged 2 for it)."""
     top = surf.f_u.size - 2  # last knot interval
     k0 = math.floor(i0 - shift)
     p_lo = min(max(0, -k0), length)
@@ -418,17 +386,18 @@ def _flag_run(
         if not surf.sphere_done[blk]:  # (a call costs more than the test)
             fill_spheres(surf, a, e)
             break
+    part = (values[0][p_lo:p_hi], values[1][p_lo:p_hi], values[2][p_lo:p_hi])
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
             d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
             surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
-            surf.curv_u[b : b + e - a], flags[p_lo:p_hi],
+            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part,
         )  # fmt: skip
     return _run_flags(
         a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
         surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
-        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi],
+        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part,
     )  # fmt: skip
 
 
@@ -442,19 +411,20 @@ def sliding_flags(
     threshold: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """Closed candidates that may pass Table 1, δ > −reach and eq. 9 at shift u/dx (``flags``).
 
     A branch-free pass over the candidates (grid order) of a rough upper body, run by runs of
     consecutive points (:func:`_run_flags`): the shifted spline's height, slope and f″ at
     ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
-    evaluation, so the values are the same to the bit), the gap g, and the conservative eq. 9
-    filter of the kernel (tests widened by a relative 10⁻⁶ of dx/2 and 10⁻⁹ of the overlap
-    scale). ``flags[j]`` is 1 for the candidates that are inside the upper body, have
-    ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset of those the exact
-    tests accept), 2 for the few the pass could not decide (to be evaluated alone), 0 for the
-    rest. Returns the number of closed candidates (inside, bound ≥ threshold, g ≤ reach) among
-    those flagged 0 or 1.
+    evaluation, so the values are the same to the bit; written to ``values``, three arrays
+    aligned with ``flags``: g, S′, S″), the gap g, and the conservative filter
+    :func:`._filter._may_touch`. ``flags[j]`` is 1 for the candidates that are inside the
+    upper body, have ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset
+    of those the exact tests accept), 2 for the few the pass could not decide (to be evaluated
+    alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold,
+    g ≤ reach) among those flagged 0 or 1.
     """
     m = cand.size
     n_closed = 0
@@ -464,7 +434,10 @@ def sliding_flags(
         j1 = j0 + 1
         while j1 < m and cand[j1] == i0 + (j1 - j0):
             j1 += 1
-        n_closed += _flag_run(surf, i0, j1 - j0, shift, d, reach, flags[j0:j1])
+        n_closed += _flag_run(
+            surf, i0, j1 - j0, shift, d, reach, flags[j0:j1],
+            (values[0][j0:j1], values[1][j0:j1], values[2][j0:j1]),
+        )  # fmt: skip
         j0 = j1
     return n_closed
 
@@ -565,13 +538,19 @@ def run_flags(
     d: float,
     reach: float,
     flags: NDArray[np.uint8],
+    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
-    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order)."""
+    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order);
+    ``values`` (aligned with ``flags``) receives g, S′, S″ of the points inside the upper
+    body, the same values as the scalar evaluation's (:func:`sliding_flags`)."""
     n_closed = 0
     o = 0
     for r in range(n_runs):
         length = run_len[r]
-        n_closed += _flag_run(surf, run_start[r], length, shift, d, reach, flags[o : o + length])
+        run = (values[0][o : o + length], values[1][o : o + length], values[2][o : o + length])
+        n_closed += _flag_run(
+            surf, run_start[r], length, shift, d, reach, flags[o : o + length], run
+        )
         o += length
     return n_closed
 

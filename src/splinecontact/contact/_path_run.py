@@ -56,15 +56,18 @@ def slide_step(
     The runs (:func:`.step_runs`, grid order) must hold every point whose gap can close; the
     result is then the same, to the bit, as :func:`path_step` on any candidate list in grid
     order holding them: one vector pass (:func:`.run_flags`) flags the few closed points the
-    conservative eq. 9 filter keeps, and only those are evaluated again, alone, packed and
-    decided exactly in grid order.
+    conservative filter keeps (:func:`._filter._may_touch`) and writes every point's g, S′
+    and S″ (the scalar evaluation's values); only the flagged points are packed, with those
+    values (the few the pass could not decide evaluated again, alone), and decided exactly in
+    grid order.
     """
     f_l = surf.f_l
     placement = surf.placement
     reach = material.reach
     shift = u / surf.dx
     flags = scratch.cl_flag
-    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags)
+    values = (scratch.cl_g, scratch.cl_s1, scratch.cl_s2)
+    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags, values)
     total = 0
     for r in range(n_runs):
         total += run_len[r]
@@ -85,15 +88,19 @@ def slide_step(
                 o += run_len[r]
                 r += 1
             i = run_start[r] + (pos - o)
-            inside, h_u, k, t = _upper_height(surf, i, shift)
-            if not inside:
-                continue
-            g = (placement - (h_u + f_l[i])) - d
-            if flag == 2:
+            if flag == 1:  # the values of the vector pass (the same), packed in place (q ≤ pos)
+                g = scratch.cl_g[pos]
+                s1 = scratch.cl_s1[pos]
+                s2 = scratch.cl_s2[pos]
+            else:
+                inside, h_u, k, t = _upper_height(surf, i, shift)
+                if not inside:
+                    continue
+                g = (placement - (h_u + f_l[i])) - d
                 if g > reach:
                     continue
                 n_closed += 1
-            s1, s2 = _upper_slopes(surf, k, t)
+                s1, s2 = _upper_slopes(surf, k, t)
             _pack(scratch, n_packed, surf, i, g, s1, s2)
             scratch.cl_keep[n_packed] = True
             n_packed += 1

@@ -29,13 +29,13 @@ from ._culling import (
     Culling,
     Surfaces,
     _interval_top,
-    _may_touch,
     block_max,
     candidate_bounds,
     interval_envelope,
     sliding_flags,
     sphere_ready,
 )
+from ._filter import _may_touch
 from ._migration import migrate as _migrate
 from .geometry import contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, spring_sums
@@ -240,10 +240,9 @@ def _filter_closed(
 ) -> None:  # pragma: no cover - compiled
     """Flag the closed points that may pass Table 1, δ > min_delta and eq. 9 (``cl_keep``).
 
-    The arithmetic of :func:`.geometry.sphere_contact` on the packed closed points, written
-    without branches so that it runs on vector units; the tests are widened (eq. 9 by a relative
-    10⁻⁶ of dx/2, the overlap by 10⁻⁹ of its scale) so that no point the exact test accepts is
-    dropped, whatever the rounding. The kept points are decided exactly afterwards.
+    :func:`._filter._may_touch` on the packed closed points, without branches so that it runs
+    on vector units: its tests are widened by a bound of the rounding errors, so that no point
+    the exact test accepts is dropped. The kept points are decided exactly afterwards.
     """
     g_a = scratch.cl_g
     s1_a = scratch.cl_s1
@@ -252,10 +251,10 @@ def _filter_closed(
     nx_a = scratch.cl_nx
     nz_a = scratch.cl_nz
     keep = scratch.cl_keep
-    lim = 2.0 * half_dx * (1.0 + 1e-6)
+    dx = 2.0 * half_dx
     for q in range(n_cl):
         keep[q] = _may_touch(
-            g_a[q], s1_a[q], s2_a[q], kl_a[q], nx_a[q], nz_a[q], kappa_max, lim, min_delta
+            g_a[q], s1_a[q], s2_a[q], kl_a[q], nx_a[q], nz_a[q], kappa_max, dx, -min_delta
         )
 
 
@@ -362,7 +361,10 @@ def path_step(
         # Sliding: one branch-free pass flags the few closed points the filter keeps; only
         # those (and the few it could not decide) are evaluated again, alone, and packed.
         flags = scratch.cl_flag
-        n_closed = sliding_flags(surf, cand, bound, shift, d, threshold, reach, flags)
+        n_closed = sliding_flags(
+            surf, cand, bound, shift, d, threshold, reach, flags,
+            (scratch.cl_g, scratch.cl_s1, scratch.cl_s2),
+        )  # fmt: skip
         for j in range(cand.size):
             flag = flags[j]
             if flag == 0:
@@ -571,15 +573,14 @@ def _fixed_flags(
 
     A candidate is closed when ``bound`` ≥ ``threshold`` and its gap g0 − δ_N ≤ ``reach``;
     ``flags`` is 1 where it is closed and passes the conservative filter of
-    :func:`._culling._may_touch`, else 0. Returns the number of closed candidates.
+    :func:`._filter._may_touch`, else 0. Returns the number of closed candidates.
     """
-    lim = dx * (1.0 + 1e-6)
     n_closed = 0
     for j in range(flags.size):
         g = g0[j] - d
         closed = (bound[j] >= threshold) & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(g, s1[j], s2[j], k_l[j], n_x[j], n_z[j], kappa_max, lim, -reach)
+        keep = closed & _may_touch(g, s1[j], s2[j], k_l[j], n_x[j], n_z[j], kappa_max, dx, reach)
         flags[j] = np.uint8(keep)
     return n_closed
 
