@@ -5,7 +5,9 @@ A rough-on-rough pair of Weierstrass–Mandelbrot profiles (D = 1.5 and 1.3, see
 in ``--steps`` normal steps, then slid by ``--travel`` µm in ``--steps`` tangential steps; the
 same path with a force-controlled sliding segment (``--force``) holds the normal force reached.
 Each figure is CPU time of this process (``time.process_time``) beside wall time, after a
-warm-up call on a small pair (compilation excluded). ``--law`` runs the interacting paths with
+warm-up call on a small pair (compilation excluded); the per-step figures of the sliding and
+the force-held sliding segments are the path's time less that of the normal loading alone,
+over ``--steps``. ``--law`` runs the interacting paths with
 a contact law (JKR and Maugis–Dugdale w = 0.05 J/m², σ0 = 0.5 GPa; DMT the same; elastic–plastic
 S_y = 0.2 GPa, as ``bench_interaction_laws.py``).
 
@@ -79,6 +81,13 @@ def main() -> None:
     print(f"{args.points} points, {args.steps} + {args.steps} steps, law {args.law}")
     for name, cpu, wall, contacts in rows:
         print(f"{name:44s} CPU {cpu:8.2f} s  wall {wall:8.2f} s  max contacts {contacts}")
+    # per step of the second segment: the path's time less that of its normal loading
+    base = {name: (cpu, wall) for name, cpu, wall, _ in rows}["interacting, normal"]
+    for name, cpu, wall, _ in rows[3:]:
+        step_cpu, step_wall = (cpu - base[0]) / args.steps, (wall - base[1]) / args.steps
+        kind = "force-held sliding" if "force" in name else "sliding"
+        print(f"per {kind} step{'':{26 - len(kind)}s} CPU {1e3 * step_cpu:8.1f} ms "
+              f"wall {1e3 * step_wall:8.1f} ms")  # fmt: skip
 
 
 if __name__ == "__main__":

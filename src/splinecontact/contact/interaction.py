@@ -347,6 +347,27 @@ def _check_finite(
     )
 
 
+def _fixed_parts(geometry: Any, n: int, width: str) -> tuple[Any, ...]:
+    """What :func:`interacting_loading` needs of the candidates whatever the displacements:
+    the slope of the rigid gap at the nodes (``width`` = "profile", else ``None``), the sorted
+    gaps [µm], the columns, the gaps, a slot for the stable gap order of every candidate (set
+    by :func:`interacting_loading` when ``reuse`` meets the same candidates again) and the
+    quadratures of the punch widths and the pair coefficients."""
+    slope = None
+    if width == "profile":
+        # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
+        # gap′ = −f_l′ − f_u′ = n_x/n_z − m_x/m_z; NaN where the gap never closes
+        slope = np.full(n, np.nan)
+        slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
+            geometry.n_z
+        ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
+    all_gap0 = np.sort(np.asarray(geometry.gap0, dtype=np.float64), kind="stable")
+    names = ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
+    raw = [np.asarray(getattr(geometry, name), dtype=np.float64) for name in names]
+    raw_gap0 = np.asarray(geometry.gap0, dtype=np.float64)
+    return slope, all_gap0, raw, raw_gap0, None, (*_punch_quadrature(), *_quadrature())
+
+
 def interacting_loading(
     geometry: Any,
     *,
@@ -361,6 +382,7 @@ def interacting_loading(
     mesh: Any = None,
     carry: dict[str, Any] | None = None,
     law_state: NDArray[np.float64] | None = None,
+    reuse: dict[str, Any] | None = None,
 ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]]:
     """Run the interacting loading on a prepared SAD geometry (eqs. 7–14 with elastic coupling).
 
@@ -400,6 +422,10 @@ def interacting_loading(
         In and out, with a law other than Hertz: the law's history, one row per lower grid
         point (shape (n_points, law.n_state)), committed in place at every solved step; zeroed
         when not given.
+    reuse : dict, optional
+        In and out: what does not depend on the displacements (the candidates' gap order,
+        slopes and the quadratures), kept for the next call on the same ``geometry.gap0``
+        array (the same candidates); the results are the same with or without it.
 
     Returns
     -------
@@ -447,14 +473,15 @@ def interacting_loading(
         )
     if settings.width not in ("profile", "hertz"):
         raise ParameterError(f"width must be 'profile' or 'hertz', got {settings.width!r}")
-    slope = None
-    if settings.width == "profile":
-        # slope of the rigid gap from the spline slopes at the nodes (eq. 4 normals):
-        # gap′ = −f_l′ − f_u′ = n_x/n_z − m_x/m_z; NaN where the gap never closes
-        slope = np.full(n, np.nan)
-        slope[np.asarray(geometry.point)] = np.asarray(geometry.n_x) / np.asarray(
-            geometry.n_z
-        ) - np.asarray(geometry.m_x) / np.asarray(geometry.m_z)
+    fixed = None if reuse is None else reuse.get("fixed")
+    if fixed is None or fixed[0] is not geometry.gap0 or fixed[1] != settings.width:
+        fixed = (geometry.gap0, settings.width, *_fixed_parts(geometry, n, settings.width))
+        if reuse is not None:
+            reuse["fixed"] = fixed
+    elif fixed[6] is None:  # the same candidates again: their stable gap order, once
+        fixed = (*fixed[:6], np.argsort(fixed[5], kind="stable"), fixed[7])
+        reuse["fixed"] = fixed  # type: ignore[index]
+    _, _, slope, all_gap0, raw, raw_gap0, by_gap, quadratures = fixed
     from .interaction_kernel import run_steps
     from .interaction_operator import _MAX_INNER, mesh_cache
 
@@ -474,33 +501,31 @@ def interacting_loading(
     record = np.zeros(n_steps, dtype=bool)
     if record_steps is not None and len(record_steps):
         record[np.asarray(record_steps)] = True
-    all_gap0 = np.sort(np.asarray(geometry.gap0, dtype=np.float64), kind="stable")
     reach = float(all_gap0[-1]) if all_gap0.size else 0.0
-    names = ("curvature_lower", "curvature_upper", "m_x", "m_z", "n_x", "n_z")
-    raw = [np.asarray(getattr(geometry, name), dtype=np.float64) for name in names]
-    raw_gap0 = np.asarray(geometry.gap0, dtype=np.float64)
     # only the candidates whose contact centre can fall in their own cell are tested at every
     # step (the same contacts are accepted, in the same order)
-    keep = np.flatnonzero(
-        _can_centre_in_cell(
-            raw_gap0,
-            min(0.0, float(displacement.min(initial=0.0))),
-            float(displacement.max(initial=0.0)),
-            tuple(raw),
-            dx,
-        )
+    kept = _can_centre_in_cell(
+        raw_gap0,
+        min(0.0, float(displacement.min(initial=0.0))),
+        float(displacement.max(initial=0.0)),
+        tuple(raw),
+        dx,
     )
     # candidates in order of their gap at δ_N = 0 (the order in which they can touch); the
-    # reach of the candidate set is its largest gap
-    order = keep[np.argsort(raw_gap0[keep], kind="stable")]
+    # reach of the candidate set is its largest gap. With ``reuse`` the stable order of every
+    # candidate, filtered: the same order (ties by position in both)
+    if by_gap is None:
+        keep = np.flatnonzero(kept)
+        order = keep[np.argsort(raw_gap0[keep], kind="stable")]
+    else:
+        order = by_gap[kept[by_gap]]
     gap0 = np.ascontiguousarray(raw_gap0[order])
     columns = [np.ascontiguousarray(column[order]) for column in raw]
     points = np.ascontiguousarray(np.asarray(geometry.point)[order], dtype=np.int64)
     height_lower = np.asarray(geometry.height_lower)[order]
     n_cand = gap0.size
     point_x = points.astype(np.float64) * dx
-    sines, punch_weights = _punch_quadrature()
-    nodes, node_weights = _quadrature()
+    sines, punch_weights, nodes, node_weights = quadratures
     largest_mesh = max(max_cells, cells or 0)
     cache = mesh_cache(largest_mesh) if mesh is None else mesh
     state = np.array([0.0, 0.0, period, 1.0, 0.0])
@@ -518,11 +543,13 @@ def interacting_loading(
     held = {} if contact_set is None else {"hold": np.asarray(contact_set, dtype=np.bool_)[order]}
     first = 0
     if carry:  # the previous call's state on these candidates, matched by grid point
-        _, old, new = np.intersect1d(carry["points"], points, return_indices=True)
-        for mine, theirs in zip(per_contact, carry["per_contact"], strict=True):
-            mine[new] = theirs[old]
         lookup = np.full(int(max(points.max(), carry["points"].max())) + 1, -1)
         lookup[points] = np.arange(n_cand)
+        new = lookup[carry["points"]]
+        old = np.flatnonzero(new >= 0)
+        new = new[old]
+        for mine, theirs in zip(per_contact, carry["per_contact"], strict=True):
+            mine[new] = theirs[old]
         last = lookup[carry["last_points"]]
         last = last[last >= 0]
         last_j[: last.size] = last

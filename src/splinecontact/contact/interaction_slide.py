@@ -16,7 +16,8 @@ configuration (u_T, δ_N) of the upper body:
   at δ_N = 0). The contact widths get at least ``WIDTH_ITERATIONS`` updates per
   displacement-controlled step. A force-controlled step does not continue the state: every
   trial is a two-step loading at the current shift (the previous δ_N from contact-free, then
-  the trial's) with the settings' own number of width updates.
+  the trial's) with the settings' own number of width updates; its first step does not
+  depend on the trial and is solved once per shift (:meth:`_Driver._first_step`).
 * **Tangential springs** (eqs. 11–13) with the migration rule of the non-interacting path
   (:func:`._migration.migrate`: a contact continues the nearest vanished contact within
   1 + ⌈2(|Δu_T| + |Δδ_N|)/dx⌉ cells), the increment (Δu_T, −Δδ_N) projected on the mean of the
@@ -25,10 +26,11 @@ configuration (u_T, δ_N) of the upper body:
   each trial a full coupled solve at the step's shift with the springs not committed and the
   contact-level solve tightened to ``FORCE_SOLVE_TOL``. The free F_N(δ_N) jumps where eq. 9
   accepts or drops a contact, so, as the non-interacting path does, the step's contact set
-  (and the springs' migration window) is held through the solve (:func:`_force_step`): eq. 9
+  (and the springs' migration window) is held through the solve
+  (:func:`.interaction_force._force_step`): eq. 9
   is not re-tested, a held contact whose effective approach falls to ≤ 0 still carries
   nothing; the first step of every trial does not depend on it), and F_N(δ_N) is
-  continuous (secant steps, :func:`_solve_continuous`). The set is
+  continuous (secant steps, :func:`.interaction_force._solve_continuous`). The set is
   re-taken from the free model at the solved δ_N until the two agree (then the step is the
   free model's) or ``SET_ROUNDS`` sets were tried (the target lies in a jump of the free
   model; F_N is held with the last set). Where F_N still jumps across the target, the nearer
@@ -41,8 +43,9 @@ configuration (u_T, δ_N) of the upper body:
   wide for the period) raises the :class:`~splinecontact.errors.ParameterError` of the normal
   path, naming the path's step; a force-controlled trial there counts as above the target.
 
-The loop over steps runs in Python, each step one compiled coupled solve (cost in
-``docs/accuracy.md``).
+The loop over steps runs in Python, each step one compiled coupled solve; what does not change
+between the calls at one shift (the candidates and their surface spheres, their gap order,
+slopes and quadratures, the mesh kernels) is built once (cost in ``docs/accuracy.md``).
 """
 
 from __future__ import annotations
@@ -65,9 +68,15 @@ from ._culling import sphere_ready
 from ._migration import migrate as _migrate
 from .geometry import ContactGeometry
 from .interaction import InteractionSettings, _check_finite, interacting_loading
+from .interaction_force import MAX_FALLS as MAX_FALLS
+from .interaction_force import SET_ROUNDS as SET_ROUNDS
+from .interaction_force import Held, _force_step
+from .interaction_force import _HeldSetFails as _HeldSetFails
+from .interaction_force import _loaded as _loaded
+from .interaction_force import _solve_continuous as _solve_continuous
 from .interaction_operator import mesh_cache
 from .laws import spring_sums
-from .loadpath import FORCE_RTOL, _prepare, _solve_force
+from .loadpath import _prepare
 from .path_kernel import (
     Scratch,
     Springs,
@@ -92,21 +101,12 @@ FORCE_SOLVE_TOL = 1e-11
 #: repeated with the settings' own number of updates).
 WIDTH_ITERATIONS = 3
 
-#: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
-SET_ROUNDS = 4
-
-#: Steps on which the held F_N falls before a held set is given up [1] (:func:`_solve_continuous`).
-MAX_FALLS = 8
-
 #: Relative miss of a force-controlled step above which a warning is given [1].
 FORCE_HOLD_RTOL = 1e-6
 
 _QUARTER_PI = 0.25 * math.pi
 
 _LAW_HINT = "a contact law's force may jump there (adhesive jump-in or out): try more steps"
-
-#: A held contact set: grid points [1] and the springs' migration window [cells].
-Held = tuple[NDArray[np.int64], int]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -220,6 +220,10 @@ class _Driver:
         self.u = 0.0
         self.d = 0.0
         self._columns: tuple[float, float, tuple[NDArray[np.float64], ...]] | None = None
+        # what the coupled solve keeps of the current candidates (interacting_loading's reuse)
+        self.reuse: dict[str, Any] = {}
+        # the first step of the force trials at one shift: (u, δ_N, tol), candidates, state
+        self._first: tuple[tuple[float, float, float], dict[str, Any] | None] | None = None
         # the meshes of the coupled solve (same period and E* at every step), built once
         cells = max(64, 1 << math.ceil(math.log2(max(2 * n, 2))), settings.mesh_cells or 0)
         self.mesh = mesh_cache(cells)
@@ -264,6 +268,7 @@ class _Driver:
         held: NDArray[np.bool_] | None,
         carry: dict[str, Any],
         law_state: NDArray[np.float64] | None = None,
+        recorded: int = 1,
     ) -> tuple[dict[str, NDArray[Any]], tuple[ContactRecord, ...]] | None:
         """The coupled step (:func:`.interaction.interacting_loading`) continuing ``carry``,
         repeated with the given settings' width updates if the width loop made it fail; ``None``
@@ -273,8 +278,8 @@ class _Driver:
         try:
             return interacting_loading(
                 geometry, e_star=self.e_star, g_star=0.0, mu0=0.0, n_points=self.n,
-                settings=chosen, record_steps=np.array([1]), contact_set=held, mesh=self.mesh,
-                carry=carry, law=self.law, law_state=law_state,
+                settings=chosen, record_steps=np.array([recorded]), contact_set=held,
+                mesh=self.mesh, carry=carry, law=self.law, law_state=law_state, reuse=self.reuse,
             )  # fmt: skip
         except NoConvergenceError as error:
             if settings.width_iterations == self.given.width_iterations:
@@ -282,11 +287,34 @@ class _Driver:
                 raise NoConvergenceError(f"{error}{hint}") from error
             if law_state is not None:  # the failed solve may have committed rows: start again
                 law_state[:] = self.law_state
-            return self._solve(geometry, self.given, tol, held, carry, law_state)
+            return self._solve(geometry, self.given, tol, held, carry, law_state, recorded)
         except ParameterError as error:
             if "left its validity" not in str(error):
                 raise
             return None
+
+    def _first_step(self, u: float, geometry: ContactGeometry, tol: float) -> dict[str, Any] | None:
+        """The state after the first step of a force trial's two-step loading (the committed
+        δ_N at shift u [µm] from contact-free, on the trial's candidates ``geometry``), which
+        does not depend on the trial's δ_N nor on the held set: solved once per shift and
+        committed δ_N, and continued by every trial (bit-identical to solving it in each
+        trial). ``None`` where it leaves the model's validity."""
+        key = (u, self.d, tol)
+        cached = self._first
+        if cached is not None and cached[0] == key:
+            # the same, or more candidates (a larger gap limit at the same shift): those added
+            # have rigid gaps above the limit before, so above δ_N, and cannot touch in a first
+            # step from contact-free (eq. 9 tests gaps up to δ_N there)
+            return cached[1]
+        carry: dict[str, Any] = {}
+        start = dataclasses.replace(
+            geometry, first_step_index=np.zeros(1, dtype=np.int64),
+            displacement=np.array([self.d]),
+        )  # fmt: skip
+        solved = self._solve(start, self.given, tol, None, carry, recorded=0)
+        first = None if solved is None else carry
+        self._first = (key, first)
+        return first
 
     def _valid(self, contacts: tuple[ContactRecord, ...]) -> bool:
         """Every loaded contact's Hertz half-width √(2 P R_eff/(πE*)) [µm] below L_p/π, the
@@ -331,11 +359,17 @@ class _Driver:
         # not depend on d: with the widths carried, one update per trial left F_N(δ_N) with
         # the history of the widths (unloading in force needed more δ_N, not less)
         # with a law every evaluation continues the committed state (one commit per step)
-        carry = {} if tol is not None and self.law is None else dict(self.carry)
         history = None if self.law_state is None else self.law_state.copy()
-        solved = self._solve(
-            geometry, self.settings if tol is None else self.given, tol, mask, carry, history
-        )
+        solved: Any = None
+        if tol is not None and self.law is None:
+            first = self._first_step(u, geometry, tol)
+            carry = {} if first is None else dict(first)
+        else:
+            carry = dict(self.carry)
+        if carry or tol is None or self.law is not None:
+            solved = self._solve(
+                geometry, self.settings if tol is None else self.given, tol, mask, carry, history
+            )
         if solved is None or not self._valid(solved[1]):
             # beyond validity: an infinite F_N (above any force target)
             self.beyond = d
@@ -374,144 +408,6 @@ class _Driver:
             if history is not None:
                 self.law_state = history
         return values, record
-
-
-class _HeldSetFails(Exception):
-    """A held contact set whose F_N(δ_N) stops rising before the target."""
-
-
-def _solve_continuous(
-    target: float, evaluate: Any, d0: float, f0: float, scale: float
-) -> tuple[float, float]:
-    """δ_N with F_N(δ_N) = target [mN/µm] for an F_N continuous and increasing in δ_N (the
-    contact set held): secant steps from (d0, f0) [µm, mN/µm], kept inside the bracket once
-    one is known (Illinois regula falsi where a secant step leaves it). Returns (δ_N, F_N);
-    where F_N still jumps across the target (the remaining bracket at rounding level), the
-    nearer side. Raises :class:`_HeldSetFails` where F_N falls ``MAX_FALLS`` times while δ_N
-    moves towards the target before a bracket is found (the held set cannot carry it: its
-    sphere geometry, eqs. 4–8, holds for small overlaps only), or beyond 2 × ``scale`` [µm]."""
-    limit = 2.0 * scale  # beyond this the bodies interpenetrate over their full height
-    r0 = f0 - target
-    if abs(r0) <= FORCE_RTOL * target:
-        return d0, f0
-    lo, r_lo, hi, r_hi = -math.inf, -math.inf, math.inf, math.inf
-    if r0 < 0.0:
-        lo, r_lo = d0, r0
-    else:
-        hi, r_hi = d0, r0
-    step = math.copysign(max(1e-6 * scale, 1e-3 * abs(d0), 1e-12), -r0)
-    x0, x1 = d0, d0 + step
-    side = 0
-    falls = 0
-    for _ in range(200):
-        x1 = min(max(x1, -limit), limit)
-        r1 = float(evaluate(x1)) - target
-        if abs(r1) <= FORCE_RTOL * target:
-            return x1, r1 + target
-        if r1 < 0.0:
-            lo, r_lo = x1, r1
-            side = -1 if side != -1 else -2
-        else:
-            hi, r_hi = x1, r1
-            side = 1 if side != 1 else 2
-        if math.isfinite(lo) and math.isfinite(hi):
-            if abs(hi - lo) <= 4.0 * np.spacing(max(abs(hi), abs(lo), 1e-300)):
-                break
-            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else math.nan
-            if not lo < guess < hi:  # Illinois: halve the weight of the side kept twice
-                w_lo = r_hi * (0.5 if side == 2 else 1.0)
-                w_hi = r_lo * (0.5 if side == -2 else 1.0)
-                guess = (lo * w_lo - hi * w_hi) / (w_lo - w_hi)
-                if not lo < guess < hi:
-                    guess = 0.5 * (lo + hi)
-        else:
-            # extrapolate by the secant, at most 100 times the last step; where F_N falls as
-            # δ_N rises (tilted contacts, e_z < 0, push down), four times the step instead
-            falling = (r1 - r0) * (x1 - x0) <= 0.0
-            falls += falling
-            if abs(x1) >= limit or falls > MAX_FALLS:
-                raise _HeldSetFails
-            last = abs(x1 - x0)
-            guess = x1 - r1 * (x1 - x0) / (r1 - r0) if not falling else math.nan
-            if not math.isfinite(guess):
-                guess = x1 + math.copysign(4.0 * last, -r1)
-            guess = x1 + math.copysign(min(abs(guess - x1), 100.0 * last), -r1)
-        x0, r0, x1 = x1, r1, guess
-    if abs(r_lo) < abs(r_hi):
-        return lo, r_lo + target
-    return hi, r_hi + target
-
-
-def _loaded(record: ContactRecord | None) -> NDArray[np.int64]:
-    """The grid points of the loaded contacts of an evaluation (sorted)."""
-    if record is None:
-        return np.zeros(0, dtype=np.int64)
-    return np.sort(record.point.astype(np.int64))
-
-
-def _force_step(
-    driver: _Driver, u: float, target: float, tol: float
-) -> tuple[float, Held | None, int]:
-    """δ_N of a force-controlled step at shift u [µm] holding F_N = target [mN/µm], the
-    contact set to hold through it (grid points and migration window; ``None``: eq. 9 free)
-    and the step's ``force_control`` code (:mod:`._force_status`; a miss is marked later).
-
-    With the contact set held (eq. 9 not re-tested; a held contact whose effective approach
-    falls to ≤ 0 carries nothing) the coupled F_N(δ_N) is continuous, and the target is met
-    by :func:`_solve_continuous`. The set is first that of the loaded contacts at the previous
-    δ_N; the free model (eq. 9) is then evaluated at the solved δ_N, and while it loads
-    another set, that set is held and δ_N solved again from there (at most ``SET_ROUNDS``
-    sets). Where a held set cannot carry the target (F_N stops rising before it: its sphere
-    geometry, eqs. 4–8, holds for small overlaps only), the free bracketing of the
-    non-interacting path (:func:`.loadpath._solve_force`) finds δ_N, and where the free F_N
-    jumps across the target the set below the jump is held from there. The step is the held
-    set at the solved δ_N: the free model's step wherever the two load the same contacts,
-    F_N held to the target in any case. The springs' migration window (which depends on
-    Δδ_N) is held with the set and is part of its consistency.
-    """
-    scale = driver.geo.scale
-    seen: dict[float, ContactRecord | None] = {}
-
-    def trial(value: float, held: Held | None) -> float:
-        out, seen[value] = driver.evaluate(u, value, False, tol, held)
-        return out[0]
-
-    def hold_from(d: float, cells: NDArray[np.int64]) -> tuple[float, Held, int]:
-        """δ_N, the held set and the code of the held solves from δ_N = d."""
-        held, code = (cells, driver.window(u, d)), _fs.HELD_FIXED_SET
-        for round_ in range(SET_ROUNDS):
-            seen.clear()
-            d, _ = _solve_continuous(
-                target, lambda v, _h=held: trial(v, _h), d, trial(d, held), scale
-            )
-            loaded = _loaded(driver.evaluate(u, d, False, tol)[1])
-            window = driver.window(u, d)
-            if window == held[1] and np.array_equal(loaded, _loaded(seen[d])):
-                code = _fs.HELD
-                break  # the free model's contacts: consistent
-            if round_ == SET_ROUNDS - 1 or loaded.size == 0:
-                break  # the target lies in a jump of the free model: F_N held
-            held = (loaded, window)
-        return d, held, code
-
-    f = trial(driver.d, None)
-    if abs(f - target) <= FORCE_RTOL * target or math.isinf(f):
-        return driver.d, None, _fs.HELD  # met, or beyond validity (raised when committed)
-    held = _loaded(seen[driver.d])
-    if held.size:
-        try:
-            return hold_from(driver.d, held)
-        except _HeldSetFails:
-            pass
-    # no contact at the previous δ_N, or its set cannot carry the target
-    d, _, lo, hi = _solve_force(target, lambda v: (trial(v, None),), driver.d, scale)
-    held = _loaded(driver.evaluate(u, lo, False, tol)[1])
-    if lo == hi or held.size == 0:
-        return d, None, _fs.HELD if lo == hi else _fs.MISSED
-    try:
-        return hold_from(lo, held)
-    except _HeldSetFails:
-        return d, None, _fs.MISSED
 
 
 def run_interacting_path(
