@@ -193,7 +193,9 @@ def plastic_evaluate(
     # stored F_max, b_max where R_eff is the history's: the same values, bit for bit), so F is
     # continuous at δ = δ_max whatever summit meets the point (module docstring)
     f_max, b_max = plastic_loading(d_max, r_eff, e_star, yield_strength, hardness, nu)
-    residual = d_max - 4.0 * f_max / (_PI * e_star)
+    # ≥ 0 as the loading curve's elastic cap promises (where that cap holds F_max the difference
+    # is rounding, and a negative one would give a force at δ ≤ 0)
+    residual = max(d_max - 4.0 * f_max / (_PI * e_star), 0.0)
     if not delta > residual:
         return 0.0, 0.0, d_max, f_max, b_max
     recovered = d_max - residual
