@@ -442,7 +442,7 @@ def _settle(
         scratch.width[n_c] = width
         n_c += 1
 
-    _migrate(n, n_c, migrate_cells, springs, scratch)
+    _migrate(n, n_c, migrate_cells, springs, scratch, True)  # (cl_* are free: scratch)
 
     sums, n_slip, work, n_touch = spring_sums(
         du, dd, n_c, material.g_star, material.mu0, springs, scratch
