@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._culling import Culling, Surfaces, candidate_blocks, candidate_bounds, run_flags, step_runs
+from ._filter import flagged_positions
 from .laws import Material
 from .path_kernel import (
     Scratch,
@@ -71,23 +72,9 @@ def slide_step(
     total = 0
     for r in range(n_runs):
         total += run_len[r]
-    # The flags are read eight at a time (one in 40 is set): ``flags`` holds a whole number of
-    # words (:func:`.loadpath._scratch`); the bytes past ``total`` are stale and skipped. The
-    # positions of the set flags are listed without a branch per flag (``scratch.idx`` is free
-    # until the exact decision), then visited in order.
+    # The positions of the set flags (``scratch.idx`` is free until the exact decision).
     hits = scratch.idx
-    n_hits = 0
-    full = total >> 3
-    words = flags[: 8 * full].view(np.uint64)
-    for w in range(full):
-        if words[w] == 0:
-            continue
-        for pos in range(8 * w, 8 * w + 8):
-            hits[n_hits] = pos
-            n_hits += flags[pos] != 0
-    for pos in range(8 * full, total):
-        hits[n_hits] = pos
-        n_hits += flags[pos] != 0
+    n_hits = flagged_positions(flags, total, hits)
     n_packed = 0
     r = 0  # the run of flag o …
     o = 0  # … starting at flag o (o + run_len[r] > pos)
