@@ -4,6 +4,7 @@
 accepted by the exact test :func:`.geometry.sphere_contact`; it never refuses one the exact
 test accepts (its tests are widened by a bound of the rounding errors of both computations),
 so the points it keeps, decided exactly afterwards, give the same results to the bit.
+:func:`flagged_positions` lists the points a pass has flagged.
 """
 
 from __future__ import annotations
