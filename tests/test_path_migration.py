@@ -56,6 +56,24 @@ def _reference(old_cells, old_xc, new_cells, new_xc, window):  # type: ignore[no
 def test_migration_equals_the_global_greedy_rule(
     data: st.DataObject, n_grid: int, window: int, shuffle: bool
 ) -> None:
+    _check(data, n_grid, window, shuffle, reuse=False)
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    data=st.data(),
+    n_grid=st.integers(8, 80),
+    window=st.integers(1, 12),
+    shuffle=st.booleans(),
+)
+def test_migration_in_the_step_scratch_equals_the_global_greedy_rule(
+    data: st.DataObject, n_grid: int, window: int, shuffle: bool
+) -> None:
+    # the kernels' form: its work arrays in the free scratch columns (large groups included)
+    _check(data, n_grid, window, shuffle, reuse=True)
+
+
+def _check(data: st.DataObject, n_grid: int, window: int, shuffle: bool, reuse: bool) -> None:
     cells = st.lists(st.integers(0, n_grid - 1), unique=True, min_size=1, max_size=n_grid // 2)
     old_cells = sorted(data.draw(cells))
     new_cells = sorted(data.draw(cells))
@@ -74,7 +92,7 @@ def test_migration_equals_the_global_greedy_rule(
     n_c = len(new_cells)
     scratch.idx[:n_c] = new_cells
     scratch.xc[:n_c] = new_xc
-    migrate(n_grid, n_c, window, springs, scratch)
+    migrate(n_grid, n_c, window, springs, scratch, reuse)
     expected = _reference(old_cells, old_xc, new_cells, new_xc, window)
     assert list(scratch.src[:n_c]) == expected
     assert not springs.claimed.any()  # the scratch flags are left clear

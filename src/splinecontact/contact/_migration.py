@@ -7,10 +7,11 @@ continues: the one in its own cell, else a vanished one nearby, nearest first. U
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numba
 import numpy as np
+from numpy.typing import NDArray
 
 from ._culling import first_at_least
 
@@ -22,7 +23,7 @@ __all__ = ["migrate"]
 
 @numba.njit(cache=True, nogil=True)
 def migrate(
-    n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch
+    n: int, n_c: int, migrate_cells: int, springs: Springs, scratch: Scratch, reuse: bool = False
 ) -> None:  # pragma: no cover - compiled
     """Which committed contact each accepted contact continues (``scratch.src``).
 
@@ -38,9 +39,23 @@ def migrate(
     group takes its nearest candidate without sorting.
     """
     claimed = springs.claimed
+    n_old = springs.n_committed[0]
+    if reuse and n_old <= scratch.cl_i.size:  # (n_c ≤ that size: the accepted points)
+        vanished = scratch.cl_i
+        slot = scratch.cl_kl.view(np.int64)
+        pair_c = scratch.cl_g.view(np.int64)
+        pair_q = scratch.cl_s1.view(np.int64)
+        pair_d = scratch.cl_s2
+        order = scratch.cl_nx.view(np.int64)
+    else:
+        vanished = np.empty(n_old, dtype=np.int64)
+        slot = np.empty(n_old, dtype=np.int64)
+        pair_c = np.empty(4 * n_c + 16, dtype=np.int64)
+        pair_q = np.empty(4 * n_c + 16, dtype=np.int64)
+        pair_d = np.empty(4 * n_c + 16)
+        order = np.empty(_SMALL, dtype=np.int64)
     c_idx = scratch.idx
     c_src = scratch.src
-    n_old = springs.n_committed[0]
     cells = springs.cells[:n_old]  # ascending
     ascending = True
     for c in range(1, n_c):
@@ -62,8 +77,6 @@ def migrate(
     # The vanished previous contacts (not continued in their own cell), in grid order: the
     # candidates of a contact are found by search instead of visiting its 2·migrate_cells
     # neighbours, and generated in the same order (by |q − i|, then the left one first).
-    vanished = np.empty(n_old, dtype=np.int64)  # their cells
-    slot = np.empty(n_old, dtype=np.int64)
     n_v = 0
     for p in range(n_old):
         if not claimed[p]:
@@ -71,9 +84,14 @@ def migrate(
             slot[n_v] = p
             n_v += 1
     vanished = vanished[:n_v]
-    first = np.empty(n_c, dtype=np.int64)  # first vanished cell ≥ i − migrate_cells
-    middle = np.empty(n_c, dtype=np.int64)  # first vanished cell ≥ i
+    # One sweep generates each contact's candidate pairs and assigns each group (contacts
+    # whose candidate ranges chain; one group unless ascending) once the next contact's
+    # candidates lie beyond it.
+    capacity = pair_d.size
     n_pairs = 0
+    group = 0  # first pair of the open group
+    single = True  # the open group holds one contact
+    reach_end = -1  # one past the last vanished index the open group reaches
     lo = hi = mid = 0
     for c in range(n_c):
         if c_src[c] >= 0:
@@ -90,71 +108,106 @@ def migrate(
             lo = first_at_least(vanished, n_v, i - migrate_cells)
             mid = first_at_least(vanished, n_v, i)
             hi = first_at_least(vanished, n_v, i + migrate_cells + 1)
-        first[c] = lo
-        middle[c] = mid
-        n_pairs += hi - lo
-    if n_pairs > 0:
-        pair_c = np.empty(n_pairs, dtype=np.int64)
-        pair_q = np.empty(n_pairs, dtype=np.int64)
-        pair_d = np.empty(n_pairs)
-        # group g: pairs group_start[g] … group_start[g + 1] − 1 (one group unless ascending)
-        group_start = np.empty(n_c + 1, dtype=np.int64)
-        group_single = np.empty(n_c, dtype=np.bool_)
-        n_groups = 0
-        reach_end = -1  # one past the last vanished index the current group reaches
-        p = 0
-        for c in range(n_c):
-            if c_src[c] >= 0:
-                continue
-            i = c_idx[c]
-            left = middle[c] - 1  # vanished[left] < i ≤ vanished[left + 1]
-            right = middle[c]
-            lo = first[c]
-            p_start = p
-            while True:
-                has_left = left >= lo
-                has_right = right < n_v and vanished[right] - i <= migrate_cells
-                if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
-                    q = slot[left]
-                    left -= 1
-                elif has_right:
-                    q = slot[right]
-                    right += 1
-                else:
-                    break
-                pair_c[p] = c
-                pair_q[p] = q
-                pair_d[p] = abs(springs.xc[q] - scratch.xc[c])
-                p += 1
-            if p == p_start:
-                continue
-            if n_groups == 0 or (ascending and lo >= reach_end):
-                group_start[n_groups] = p_start
-                group_single[n_groups] = True
-                n_groups += 1
+        if hi == lo:
+            continue  # no candidate
+        if n_pairs == 0 or (ascending and lo >= reach_end):
+            _assign(group, n_pairs, single, pair_c, pair_q, pair_d, order, c_src, claimed)
+            group = n_pairs
+            single = True
+        else:
+            single = False
+        if n_pairs + (hi - lo) > capacity:
+            capacity = 2 * (n_pairs + (hi - lo))
+            pair_c = _grown(pair_c, n_pairs, capacity)
+            pair_q = _grown(pair_q, n_pairs, capacity)
+            pair_d = _grown(pair_d, n_pairs, capacity)
+        # the candidates by |q − i|, the left one first on a tie (vanished[mid − 1] < i ≤ …)
+        left = mid - 1
+        right = mid
+        x = scratch.xc[c]
+        while True:
+            has_left = left >= lo
+            has_right = right < hi
+            if has_left and (not has_right or i - vanished[left] <= vanished[right] - i):
+                q = slot[left]
+                left -= 1
+            elif has_right:
+                q = slot[right]
+                right += 1
             else:
-                group_single[n_groups - 1] = False
-            reach_end = max(reach_end, right)
-        group_start[n_groups] = n_pairs
-        for grp in range(n_groups):
-            g0 = group_start[grp]
-            g1 = group_start[grp + 1]
-            if group_single[grp]:
-                # one contact: the first nearest candidate (all are unclaimed)
-                best = g0
-                for p in range(g0 + 1, g1):
-                    if pair_d[p] < pair_d[best]:
-                        best = p
-                c_src[pair_c[best]] = pair_q[best]
-                claimed[pair_q[best]] = True
-                continue
-            order = np.argsort(pair_d[g0:g1], kind="mergesort")
-            for o in order:
-                c = pair_c[g0 + o]
-                q = pair_q[g0 + o]
-                if c_src[c] < 0 and not claimed[q]:
-                    c_src[c] = q
-                    claimed[q] = True
+                break
+            pair_c[n_pairs] = c
+            pair_q[n_pairs] = q
+            pair_d[n_pairs] = abs(springs.xc[q] - x)
+            n_pairs += 1
+        reach_end = max(reach_end, hi)
+    _assign(group, n_pairs, single, pair_c, pair_q, pair_d, order, c_src, claimed)
     for c in range(n_c):
         if c_src[c] >= 0:
             claimed[c_src[c]] = False
+
+
+#: Groups of at most this many pairs are ordered by insertion (no allocation).
+_SMALL = 32
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _assign(
+    g0: int,
+    g1: int,
+    single: bool,
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+    order: NDArray[np.int64],
+    c_src: NDArray[np.int64],
+    claimed: NDArray[np.bool_],
+) -> None:  # pragma: no cover - compiled
+    """Assign the pairs g0 … g1 − 1 of one group greedily by increasing distance.
+
+    The pairs are taken in the stable order of their distances (``order``: scratch of at
+    least ``_SMALL`` entries; a larger group is ordered by numpy's stable sort, the same).
+    """
+    m = g1 - g0
+    if m == 0:
+        return
+    if single:
+        # one contact: the first nearest candidate (all are unclaimed)
+        best = g0
+        for p in range(g0 + 1, g1):
+            if pair_d[p] < pair_d[best]:
+                best = p
+        c_src[pair_c[best]] = pair_q[best]
+        claimed[pair_q[best]] = True
+        return
+    if m > min(_SMALL, order.size):
+        ranks = np.argsort(pair_d[g0:g1], kind="mergesort")
+    else:
+        ranks = order[:m]
+        for a in range(m):  # stable insertion (a NaN last, as numpy's sort)
+            key = pair_d[g0 + a]
+            b = a
+            while b > 0 and _after(pair_d[g0 + ranks[b - 1]], key):
+                ranks[b] = ranks[b - 1]
+                b -= 1
+            ranks[b] = a
+    for o in ranks:
+        c = pair_c[g0 + o]
+        q = pair_q[g0 + o]
+        if c_src[c] < 0 and not claimed[q]:
+            c_src[c] = q
+            claimed[q] = True
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _after(a: float, b: float) -> bool:  # pragma: no cover - compiled
+    """Whether a sorts strictly after b in numpy's order (NaN last)."""
+    return a > b or (a != a and b == b)
+
+
+@numba.njit(cache=True, nogil=True)
+def _grown(values: NDArray[Any], used: int, size: int) -> NDArray[Any]:  # pragma: no cover
+    """A copy of ``values`` of length ``size`` holding its first ``used`` entries."""
+    out = np.empty(size, dtype=values.dtype)
+    out[:used] = values[:used]
+    return out

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._culling import Culling, Surfaces, candidate_blocks, candidate_bounds, run_flags, step_runs
+from ._filter import flagged_positions
 from .laws import Material
 from .path_kernel import (
     Scratch,
@@ -71,39 +72,35 @@ def slide_step(
     total = 0
     for r in range(n_runs):
         total += run_len[r]
-    # The flags are read eight at a time (one in 40 is set): ``flags`` holds a whole number of
-    # words (:func:`.loadpath._scratch`); the bytes past ``total`` are stale and skipped.
-    words = flags[: (total + 7) & ~7].view(np.uint64)
+    # The positions of the set flags (``scratch.idx`` is free until the exact decision).
+    hits = scratch.idx
+    n_hits = flagged_positions(flags, total, hits)
     n_packed = 0
     r = 0  # the run of flag o …
     o = 0  # … starting at flag o (o + run_len[r] > pos)
-    for w in range(words.size):
-        if words[w] == 0:
-            continue
-        for pos in range(8 * w, min(8 * w + 8, total)):
-            flag = flags[pos]
-            if flag == 0:
+    for h in range(n_hits):
+        pos = hits[h]
+        flag = flags[pos]
+        while pos >= o + run_len[r]:
+            o += run_len[r]
+            r += 1
+        i = run_start[r] + (pos - o)
+        if flag == 1:  # the values of the vector pass (the same), packed in place (q ≤ pos)
+            g = scratch.cl_g[pos]
+            s1 = scratch.cl_s1[pos]
+            s2 = scratch.cl_s2[pos]
+        else:
+            inside, h_u, k, t = _upper_height(surf, i, shift)
+            if not inside:
                 continue
-            while pos >= o + run_len[r]:
-                o += run_len[r]
-                r += 1
-            i = run_start[r] + (pos - o)
-            if flag == 1:  # the values of the vector pass (the same), packed in place (q ≤ pos)
-                g = scratch.cl_g[pos]
-                s1 = scratch.cl_s1[pos]
-                s2 = scratch.cl_s2[pos]
-            else:
-                inside, h_u, k, t = _upper_height(surf, i, shift)
-                if not inside:
-                    continue
-                g = (placement - (h_u + f_l[i])) - d
-                if g > reach:
-                    continue
-                n_closed += 1
-                s1, s2 = _upper_slopes(surf, k, t)
-            _pack(scratch, n_packed, surf, i, g, s1, s2)
-            scratch.cl_keep[n_packed] = True
-            n_packed += 1
+            g = (placement - (h_u + f_l[i])) - d
+            if g > reach:
+                continue
+            n_closed += 1
+            s1, s2 = _upper_slopes(surf, k, t)
+        _pack(scratch, n_packed, surf, i, g, s1, s2)
+        scratch.cl_keep[n_packed] = True
+        n_packed += 1
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
         False, n_packed, n_closed,

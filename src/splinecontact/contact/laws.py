@@ -355,7 +355,7 @@ def _evaluate(
     return out[0], out[1]
 
 
-@overload(_evaluate, jit_options={"nogil": True}, strict=False)
+@overload(_evaluate, jit_options={"nogil": True}, strict=False, inline="always")
 def _evaluate_typed(code: Any, params: Any, *rest: Any) -> Any:
     # Chosen when a kernel is typed: Hertz's 1-tuple of parameters compiles Hertz alone.
     return _evaluate_hertz if isinstance(params, types.BaseTuple) else _evaluate

@@ -35,7 +35,7 @@ from ._culling import (
     sliding_flags,
     sphere_ready,
 )
-from ._filter import _may_touch
+from ._filter import _may_touch, flagged_positions
 from ._migration import migrate as _migrate
 from .geometry import contact_centre_height, sphere_contact
 from .laws import Material, commit_law, normal_law, release_law, spring_sums
@@ -341,22 +341,18 @@ def path_step(
             pre[0, :stop], pre[1, :stop], pre[2, :stop], pre[3, :stop], pre[4, :stop],
             pre[5, :stop], bound[:stop], threshold, d, reach, kappa_max, surf.dx, flags[:stop],
         )  # fmt: skip
-        words = flags[: (stop + 7) & ~7].view(np.uint64)
-        for w in range(words.size):
-            if words[w] == 0:
-                continue
-            for j in range(8 * w, min(8 * w + 8, stop)):
-                if flags[j] == 0:
-                    continue
-                scratch.cl_i[n_packed] = cand[j]
-                scratch.cl_g[n_packed] = pre[0, j] - d
-                scratch.cl_s1[n_packed] = pre[1, j]
-                scratch.cl_s2[n_packed] = pre[2, j]
-                scratch.cl_kl[n_packed] = pre[3, j]
-                scratch.cl_nx[n_packed] = pre[4, j]
-                scratch.cl_nz[n_packed] = pre[5, j]
-                scratch.cl_keep[n_packed] = True
-                n_packed += 1
+        hits = scratch.idx  # (free until the exact decision)
+        for h in range(flagged_positions(flags[:stop], stop, hits)):
+            j = hits[h]
+            scratch.cl_i[n_packed] = cand[j]
+            scratch.cl_g[n_packed] = pre[0, j] - d
+            scratch.cl_s1[n_packed] = pre[1, j]
+            scratch.cl_s2[n_packed] = pre[2, j]
+            scratch.cl_kl[n_packed] = pre[3, j]
+            scratch.cl_nx[n_packed] = pre[4, j]
+            scratch.cl_nz[n_packed] = pre[5, j]
+            scratch.cl_keep[n_packed] = True
+            n_packed += 1
     else:
         # Sliding: one branch-free pass flags the few closed points the filter keeps; only
         # those (and the few it could not decide) are evaluated again, alone, and packed.
@@ -442,7 +438,7 @@ def _settle(
         scratch.width[n_c] = width
         n_c += 1
 
-    _migrate(n, n_c, migrate_cells, springs, scratch)
+    _migrate(n, n_c, migrate_cells, springs, scratch, True)  # (cl_* are free: scratch)
 
     sums, n_slip, work, n_touch = spring_sums(
         du, dd, n_c, material.g_star, material.mu0, springs, scratch
