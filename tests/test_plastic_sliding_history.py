@@ -119,11 +119,18 @@ def test_force_is_continuous_in_r_eff_below_delta_max(h: dict, fraction: float) 
 
 @settings(max_examples=200, deadline=None)
 @given(histories, st.floats(0.0, 1.0))
+# ν = 0: the elastic cap holds F_max, the unclamped δ_r would be −4.3e−19 µm
+@example(
+    {"nu": 0.0, "sy": 1.0, "r_old": 0.0644762322222609, "ratio": 1.0,
+     "omega": 2.4267079445364423},
+    0.0,
+)  # fmt: skip
 def test_same_r_eff_unloads_on_the_stored_line_bit_for_bit(h: dict, fraction: float) -> None:
     nu, sy, r_eff = h["nu"], h["sy"], h["r_old"]
     d_max = h["omega"] * pl.critical_interference(r_eff, E_STAR, sy, nu)
     state = _history(d_max, r_eff, sy, nu)
-    residual = state[0] - 4.0 * state[1] / (math.pi * E_STAR)
+    # the law's δ_r: clamped at 0 (where the elastic cap holds F_max the difference is rounding)
+    residual = max(state[0] - 4.0 * state[1] / (math.pi * E_STAR), 0.0)
     delta = residual + fraction * (d_max - residual)
     force, width, *after = _law(delta, r_eff, sy, nu, state)
     assert tuple(after) == tuple(state)  # (δ_max, F_max, b_max) exactly

@@ -22,7 +22,7 @@ from ..results import ContactRecord
 from . import _force_status as _fs
 from .loadpath import FORCE_RTOL, _solve_force
 
-__all__ = ["MAX_FALLS", "SET_ROUNDS", "Held"]
+__all__ = ["MAX_FALLS", "SET_ROUNDS"]
 
 #: Most contact sets tried in a force-controlled step [1] (:func:`_force_step`).
 SET_ROUNDS = 4
