@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -25,6 +26,32 @@ def circle_cap(x: NDArray[np.float64], radius: float, centre: float = 0.0) -> ND
 def circle_cup(x: NDArray[np.float64], radius: float, centre: float = 0.0) -> NDArray[np.float64]:
     """Heights [µm] of a circular valley (cup) of the given radius [µm], bottom 0 at ``centre``."""
     return -circle_cap(x, radius, centre)
+
+
+def pressed_interacting_driver() -> tuple[Any, float]:
+    """The interacting path driver of a 1024-point rough pair (D = 1.5 on 1.3, 4 µm, seeds 3/8,
+    μ0 = 0.3) pressed to half of δ_top = 0.2 × the summed peak-to-valley heights; (driver, δ_top
+    [µm]). Shared by the force-control and the per-shift reuse tests."""
+    from splinecontact import Segment, simulate
+    from splinecontact.contact import InteractionSettings
+    from splinecontact.contact.interaction_slide import _Driver
+    from splinecontact.contact.simulation import spline_fits
+    from splinecontact.generate import weierstrass_mandelbrot
+
+    lower = weierstrass_mandelbrot(1.5, n_points=1024, length=4.0, seed=3)
+    upper = weierstrass_mandelbrot(1.3, n_points=1024, length=4.0, seed=8)
+    first = simulate(
+        lower, upper, interaction=True, diagnostics=False, path=[Segment(normal=1e-3, steps=1)]
+    )
+    p = first.parameters
+    fits = spline_fits(lower, upper, alpha=p["alpha"], x0=p["x0"])
+    top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
+    driver = _Driver(
+        lower, fits, InteractionSettings(), top, e_star=p["e_star"], g_star=p["g_star"], mu0=0.3
+    )
+    driver.evaluate(0.0, 0.0, True)
+    driver.evaluate(0.0, 0.5 * top, True)
+    return driver, top
 
 
 def pytest_configure(config: pytest.Config) -> None:

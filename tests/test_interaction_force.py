@@ -23,6 +23,8 @@ from splinecontact.contact.interaction_slide import (
 )
 from splinecontact.generate import weierstrass_mandelbrot
 
+from conftest import pressed_interacting_driver
+
 
 def _held_sliding(n: int, length: float, seeds: tuple[int, int], steps: int, travel: float):  # type: ignore[no-untyped-def]
     """A rough pair (D = 1.5 on 1.3) held at the force of δ_N = 0.1 × the summed
@@ -122,23 +124,9 @@ def test_continuous_solve_returns_the_nearer_side_of_a_jump() -> None:
 def test_holding_the_free_set_is_the_free_step() -> None:
     """At any (u_T, δ_N), holding the contacts that eq. 9 loads there gives the free model's
     step (to the contact-level tolerance); holding no contact loads nothing."""
-    from splinecontact.contact import InteractionSettings
-    from splinecontact.contact.interaction_slide import _Driver, _loaded
-    from splinecontact.contact.simulation import spline_fits
+    from splinecontact.contact.interaction_slide import _loaded
 
-    lower = weierstrass_mandelbrot(1.5, n_points=1024, length=4.0, seed=3)
-    upper = weierstrass_mandelbrot(1.3, n_points=1024, length=4.0, seed=8)
-    first = simulate(
-        lower, upper, interaction=True, diagnostics=False, path=[Segment(normal=1e-3, steps=1)]
-    )
-    p = first.parameters
-    fits = spline_fits(lower, upper, alpha=p["alpha"], x0=p["x0"])
-    top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
-    driver = _Driver(
-        lower, fits, InteractionSettings(), top, e_star=p["e_star"], g_star=p["g_star"], mu0=0.3
-    )
-    driver.evaluate(0.0, 0.0, True)
-    driver.evaluate(0.0, 0.5 * top, True)
+    driver, top = pressed_interacting_driver()
     for d in (0.6 * top, 0.8 * top):
         free, record = driver.evaluate(0.01, d, False, 1e-11)
         window = driver.window(0.01, d)

@@ -14,30 +14,12 @@ import dataclasses
 import numpy as np
 import pytest
 
-from splinecontact import Segment, simulate
-from splinecontact.generate import weierstrass_mandelbrot
+from conftest import pressed_interacting_driver
 
 
 @pytest.fixture(scope="module")
 def driver():  # type: ignore[no-untyped-def]
-    from splinecontact.contact import InteractionSettings
-    from splinecontact.contact.interaction_slide import _Driver
-    from splinecontact.contact.simulation import spline_fits
-
-    lower = weierstrass_mandelbrot(1.5, n_points=1024, length=4.0, seed=3)
-    upper = weierstrass_mandelbrot(1.3, n_points=1024, length=4.0, seed=8)
-    first = simulate(
-        lower, upper, interaction=True, diagnostics=False, path=[Segment(normal=1e-3, steps=1)]
-    )
-    p = first.parameters
-    fits = spline_fits(lower, upper, alpha=p["alpha"], x0=p["x0"])
-    top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
-    made = _Driver(
-        lower, fits, InteractionSettings(), top, e_star=p["e_star"], g_star=p["g_star"], mu0=0.3
-    )
-    made.evaluate(0.0, 0.0, True)
-    made.evaluate(0.0, 0.5 * top, True)
-    return made, top
+    return pressed_interacting_driver()
 
 
 def _geometry(driver, u: float, d: float):  # type: ignore[no-untyped-def]
