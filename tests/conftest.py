@@ -54,6 +54,30 @@ def pressed_interacting_driver() -> tuple[Any, float]:
     return driver, top
 
 
+def held_force_slide(
+    lower: Any, upper: Any, top: float, **kwargs: Any
+) -> tuple[Any, float, list[str]]:
+    """A force-held slide of a rough pair: pressed to ``top`` [µm] in 3 steps, then F_N held at
+    0.7 × that force for 2 steps and for 4 steps of 0.02 µm sliding (``kwargs`` to ``simulate``);
+    (result, target [mN/µm], the messages of the "could not be held" RuntimeWarnings)."""
+    import warnings
+
+    from splinecontact import Segment, simulate
+
+    loaded = simulate(lower, upper, path=[Segment(normal=top, steps=3)], **kwargs)
+    target = 0.7 * float(loaded.normal_force[-1])
+    path = [
+        Segment(normal=top, steps=3),
+        Segment(normal_force=target, steps=2),
+        Segment(normal_force=target, tangential=0.02, steps=4),
+    ]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        result = simulate(lower, upper, path=path, **kwargs)
+    messages = [str(w.message) for w in caught if "could not be held" in str(w.message)]
+    return result, target, messages
+
+
 def pytest_configure(config: pytest.Config) -> None:
     """Before a parallel run of the whole default tier, compile the kernels once.
 

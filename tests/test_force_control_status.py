@@ -33,7 +33,7 @@ from splinecontact.contact import JKR, loadpath
 from splinecontact.contact import _force_status as fs
 from splinecontact.generate import weierstrass_mandelbrot, weierstrass_mandelbrot_pair
 
-from conftest import ANGSTROM, circle_cap
+from conftest import ANGSTROM, circle_cap, held_force_slide
 
 E_STAR = 10.0
 
@@ -190,23 +190,13 @@ def test_interacting_jkr_marks_the_step_inside_a_jump() -> None:
     top = 0.2 * (lower.peak_to_valley + upper.peak_to_valley)
     kwargs = {"e_star": E_STAR, "g_star": E_STAR / 2.6, "mu0": 0.3, "interaction": True,
               "diagnostics": False, "law": JKR(work_of_adhesion=0.05)}  # fmt: skip
-    loaded = simulate(lower, upper, path=[Segment(normal=top, steps=3)], **kwargs)
-    target = 0.7 * float(loaded.normal_force[-1])
-    path = [
-        Segment(normal=top, steps=3),
-        Segment(normal_force=target, steps=2),
-        Segment(normal_force=target, tangential=0.02, steps=4),
-    ]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", RuntimeWarning)
-        result = simulate(lower, upper, path=path, **kwargs)
+    result, target, messages = held_force_slide(lower, upper, top, **kwargs)
     codes = result.force_control
     miss = np.abs(result.normal_force / target - 1)
     assert np.all(codes[:4] == fs.DISPLACEMENT)
     assert codes[-1] == fs.MISSED and miss[-1] > 1e-6
     assert np.all((codes[4:] == fs.MISSED) == (miss[4:] > 1e-6))
     assert np.all(np.isin(codes[4:], [fs.HELD, fs.HELD_FIXED_SET, fs.MISSED]))
-    messages = [str(w.message) for w in caught if "could not be held" in str(w.message)]
     assert len(messages) == 1 and f"at {int(np.sum(codes == 3))} of 6 " in messages[0]
     # μ_s skips the missed step; dilatancy of the sliding segment uses its δ_N (the jump's)
     friction = static_friction(result)

@@ -22,7 +22,6 @@ repeated solves) solve on a copy, the accepted step commits it once. Oracles:
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -34,7 +33,7 @@ from splinecontact.contact.adhesion import jkr_evaluate
 from splinecontact.contact.interaction import self_coefficient
 from splinecontact.generate import weierstrass_mandelbrot
 
-from conftest import ANGSTROM, circle_cap
+from conftest import ANGSTROM, circle_cap, held_force_slide
 
 E_STAR = 10.0
 G_STAR = E_STAR / 2.6
@@ -113,17 +112,7 @@ def test_adhesive_constant_force_segment_holds_the_force(rough, name: str) -> No
         law = JKR(work_of_adhesion=0.05)
     kwargs = {"e_star": E_STAR, "g_star": G_STAR, "mu0": 0.3, "interaction": True,
               "diagnostics": False, "law": law}  # fmt: skip
-    loaded = simulate(lower, upper, path=[Segment(normal=top, steps=3)], **kwargs)
-    target = 0.7 * float(loaded.normal_force[-1])
-    path = [
-        Segment(normal=top, steps=3),
-        Segment(normal_force=target, steps=2),
-        Segment(normal_force=target, tangential=0.02, steps=4),
-    ]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", RuntimeWarning)
-        result = simulate(lower, upper, path=path, **kwargs)
-    messages = [str(w.message) for w in caught if "could not be held" in str(w.message)]
+    result, target, messages = held_force_slide(lower, upper, top, **kwargs)
     held = np.isfinite(result.normal_force_target)
     assert held.sum() == 6
     miss = np.abs(result.normal_force[held] / target - 1.0)
