@@ -35,10 +35,11 @@ from ._culling import (
     sliding_flags,
     sphere_ready,
 )
+from ._decide import _upper_sphere as _upper_sphere
+from ._decide import apply_law, decide_packed
 from ._filter import _may_touch, flagged_positions
 from ._migration import migrate as _migrate
-from .geometry import contact_centre_height, sphere_contact
-from .laws import Material, commit_law, normal_law, release_law, spring_sums
+from .laws import Material, commit_law, release_law, spring_sums
 
 __all__ = [
     "Culling",
@@ -159,20 +160,6 @@ def _upper_slopes(
     ) * inv_dx
     s2 = (w * g0 + t * g1) * (inv_dx * inv_dx)
     return s1, s2
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _upper_sphere(
-    s1: float, s2: float, kappa_max: float
-) -> tuple[float, float, float]:  # pragma: no cover - compiled
-    """(κ^u clamped to ±kappa_max, m_x, m_z) of the upper surface of slope s1 and f″ s2."""
-    norm_u = math.sqrt(1.0 + s1 * s1)
-    k_u = -s2 / (norm_u * norm_u * norm_u)
-    if k_u > kappa_max:
-        k_u = kappa_max
-    elif k_u < -kappa_max:
-        k_u = -kappa_max
-    return k_u, s1 / norm_u, 1.0 / norm_u
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -397,46 +384,21 @@ def _settle(
 ) -> StepSums:  # pragma: no cover - compiled
     """The packed closed points of a configuration decided exactly, the springs moved (eqs.
     9–13); see :func:`path_step`. ``n_closed`` is reported as ``n_candidates``."""
-    f_l = surf.f_l
-    n = f_l.size
-    reach = material.reach
-    half_dx = 0.5 * surf.dx
-    kappa_max = surf.kappa_max
+    n = surf.f_l.size
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
-    n_c = 0
-    for q in range(n_packed):
-        i = scratch.cl_i[q]
-        if use_fixed:
-            if not fixed[i]:
-                continue
-        elif not scratch.cl_keep[q]:
-            continue
-        g = scratch.cl_g[q]
-        s1 = scratch.cl_s1[q]
-        k_l = scratch.cl_kl[q]
-        k_u, m_x, m_z = _upper_sphere(s1, scratch.cl_s2[q], kappa_max)
-        n_z = scratch.cl_nz[q]
-        accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
-            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, cell_test, -reach
-        )
-        if not accepted:
-            continue
-        reff = 2.0 / (k_l + k_u)
-        f_n, width = normal_law(code, params, delta, reff, law_state, i)
-        scratch.idx[n_c] = i
-        scratch.fn[n_c] = f_n
-        scratch.ex[n_c] = e_x
-        scratch.ez[n_c] = e_z
-        scratch.xc[n_c] = i * surf.dx + offset
-        scratch.z[n_c] = f_l[i] + contact_centre_height(g, k_l, k_u, m_z, n_z, delta, y_norm)
-        scratch.delta[n_c] = delta
-        scratch.reff[n_c] = reff
-        scratch.width[n_c] = width
-        n_c += 1
+    if use_fixed:  # eq. 9 given: the offset test always passes; the given cells only
+        for q in range(n_packed):
+            scratch.cl_keep[q] = fixed[scratch.cl_i[q]]
+        cell_test = np.inf
+    else:
+        cell_test = 0.5 * surf.dx
+    n_c = decide_packed(
+        n_packed, surf.f_l, surf.dx, surf.kappa_max, cell_test, -material.reach, scratch
+    )
+    apply_law(code, params, law_state, n_c, scratch)
 
     _migrate(n, n_c, migrate_cells, springs, scratch, True)  # (cl_* are free: scratch)
 

@@ -1,0 +1,152 @@
+"""The exact decision of the load-path kernels on the packed closed points (Table 1, eqs. 7–10).
+
+:func:`decide_packed` runs the two-sphere contact of :func:`.geometry.sphere_contact` (with the
+upper sphere of :func:`_upper_sphere`) on every packed point in one pass without branches, so
+that it runs on vector units, then keeps the accepted points in order; :func:`apply_law` gives
+them their normal force and width (eq. 10). The pass compiles the very source of
+``sphere_contact`` and ``contact_centre_height`` inline (no copy of their arithmetic), without
+fast-math: square roots and divisions are correctly rounded on vector and scalar units alike,
+so the values are those of the scalar evaluation, to the bit (``tests/test_path_decide.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from .geometry import contact_centre_height, sphere_contact
+from .laws import normal_law
+
+__all__ = ["apply_law", "decide_packed"]
+
+# The same functions compiled into the caller (numba inlines their source), so that a loop
+# calling them has no call in it and the vectoriser can take it.
+_sphere_contact = numba.njit(inline="always")(sphere_contact.py_func)
+_centre_height = numba.njit(inline="always")(contact_centre_height.py_func)
+_normal_law = numba.njit(inline="always")(normal_law.py_func)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _upper_sphere(
+    s1: float, s2: float, kappa_max: float
+) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """(κ^u clamped to ±kappa_max [1/µm], m_x, m_z [1]) of the upper surface of slope s1 [1]
+    and f″ s2 [1/µm] (eqs. 4–6: m = −n^u)."""
+    norm_u = math.sqrt(1.0 + s1 * s1)
+    k_u = -s2 / (norm_u * norm_u * norm_u)
+    if k_u > kappa_max:
+        k_u = kappa_max
+    elif k_u < -kappa_max:
+        k_u = -kappa_max
+    return k_u, s1 / norm_u, 1.0 / norm_u
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def decide_packed(
+    n_packed: int,
+    f_l: NDArray[np.float64],
+    dx: float,
+    kappa_max: float,
+    cell_test: float,
+    min_delta: float,
+    scratch: Any,
+) -> int:  # pragma: no cover - compiled
+    """Decide the packed points (``scratch.cl_*``, q < ``n_packed``) exactly; their count kept.
+
+    Parameters
+    ----------
+    n_packed : int
+        Packed points [1]; those with ``cl_keep`` set are tested.
+    f_l : ndarray
+        Lower heights [µm] (the centre height z_c = f^l_i + eq. 8's rise).
+    dx : float
+        Grid spacing [µm] (the centre x_c = i·dx + offset).
+    kappa_max : float
+        Curvature clamp of the upper sphere [1/µm].
+    cell_test : float
+        Half-width [µm] of eq. 9's cell test (dx/2; ∞ when the contact cells are given).
+    min_delta : float
+        Smallest overlap accepted, exclusive [µm] (−reach of the law).
+    scratch : Scratch
+        The packed points in, the accepted contacts out (:class:`.path_kernel.Scratch`).
+
+    Returns
+    -------
+    int
+        The accepted contacts n_c [1]: entries c < n_c of ``idx``, ``ex``, ``ez``, ``xc``
+        [µm], ``z`` [µm], ``delta`` [µm] and ``reff`` [µm], in the packed order (Table 1,
+        eq. 9, δ > ``min_delta``, eqs. 7–8 and 10 by :func:`.geometry.sphere_contact`).
+    """
+    i_a = scratch.cl_i
+    g_a = scratch.cl_g
+    s1_a = scratch.cl_s1
+    s2_a = scratch.cl_s2
+    kl_a = scratch.cl_kl
+    nx_a = scratch.cl_nx
+    nz_a = scratch.cl_nz
+    keep = scratch.cl_keep
+    idx = scratch.idx
+    ex = scratch.ex
+    ez = scratch.ez
+    xc = scratch.xc
+    z = scratch.z
+    delta_a = scratch.delta
+    reff = scratch.reff
+    # Every point, with no branch: a refused point's values are computed and dropped below.
+    for q in range(n_packed):
+        i = i_a[q]
+        g = g_a[q]
+        k_l = kl_a[q]
+        n_z = nz_a[q]
+        k_u, m_x, m_z = _upper_sphere(s1_a[q], s2_a[q], kappa_max)
+        accepted, delta, offset, e_x, e_z, y_norm = _sphere_contact(
+            g, k_l, k_u, m_x, m_z, nx_a[q], n_z, cell_test, min_delta
+        )
+        keep[q] = keep[q] & accepted
+        idx[q] = i
+        ex[q] = e_x
+        ez[q] = e_z
+        xc[q] = i * dx + offset
+        z[q] = _centre_height(g, k_l, k_u, m_z, n_z, delta, y_norm)
+        delta_a[q] = delta
+        reff[q] = 2.0 / (k_l + k_u)
+    # The accepted ones moved down in order (nearly all are: few moves).
+    n_c = 0
+    for q in range(n_packed):
+        if not keep[q]:
+            continue
+        i = idx[q]
+        if n_c < q:
+            idx[n_c] = i
+            ex[n_c] = ex[q]
+            ez[n_c] = ez[q]
+            xc[n_c] = xc[q]
+            delta_a[n_c] = delta_a[q]
+            reff[n_c] = reff[q]
+        z[n_c] = f_l[i] + z[q]
+        n_c += 1
+    return n_c
+
+
+@numba.njit(cache=True, nogil=True)
+def apply_law(
+    code: int,
+    params: Any,
+    law_state: NDArray[np.float64],
+    n_c: int,
+    scratch: Any,
+) -> None:  # pragma: no cover - compiled
+    """``scratch.fn`` [mN/µm] and ``scratch.width`` [µm] of the accepted contacts c < n_c
+    (:func:`.laws.normal_law`, eq. 10, in their order; a law without history state runs on
+    vector units)."""
+    idx = scratch.idx
+    delta = scratch.delta
+    reff = scratch.reff
+    fn = scratch.fn
+    width = scratch.width
+    for c in range(n_c):
+        fn[c], width[c] = _normal_law(code, params, delta[c], reff[c], law_state, idx[c])
