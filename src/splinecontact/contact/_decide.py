@@ -21,13 +21,58 @@ from numpy.typing import NDArray
 from .geometry import contact_centre_height, sphere_contact
 from .laws import normal_law
 
-__all__ = ["apply_law", "decide_packed"]
+__all__ = ["apply_law", "decide_packed", "flag_list"]
 
 # The same functions compiled into the caller (numba inlines their source), so that a loop
 # calling them has no call in it and the vectoriser can take it.
 _sphere_contact = numba.njit(inline="always")(sphere_contact.py_func)
 _centre_height = numba.njit(inline="always")(contact_centre_height.py_func)
 _normal_law = numba.njit(inline="always")(normal_law.py_func)
+
+
+def _bit_positions() -> NDArray[np.uint8]:
+    """Per byte value m: the positions of its set bits, ascending (8 entries, padded with 0)."""
+    positions = np.zeros((256, 8), dtype=np.uint8)
+    for m in range(256):
+        set_bits = [k for k in range(8) if (m >> k) & 1]
+        positions[m, : len(set_bits)] = set_bits
+    return positions.ravel()
+
+
+_POSITIONS = _bit_positions()
+_LOW_BITS = np.uint64(0x0101010101010101)  # bit 0 of each byte
+_GATHER = np.uint64(0x0102040810204080)  # (low bits × this) >> 56: byte k's bit at bit k
+
+
+@numba.njit(cache=True, nogil=True)
+def flag_list(
+    flags: NDArray[np.uint8], total: int, hits: NDArray[np.int64]
+) -> int:  # pragma: no cover - compiled
+    """The positions j < ``total`` of the nonzero ``flags`` (each 0–3), ascending, into
+    ``hits``; their count.
+
+    Without a branch per flag or per word (few flags are set, at random: a branch would be
+    mispredicted at most of them): each eight flags, read as one word, give a byte of
+    nonzero bits whose set positions a table lists; all eight entries are written, the count
+    advanced by the set ones. ``hits`` must hold ``total`` entries.
+    """
+    n_hits = 0
+    full = total >> 3
+    words = flags[: 8 * full].view(np.uint64)
+    one = np.uint64(1)
+    top = np.uint64(56)
+    for w in range(full):
+        x = words[w]
+        nonzero = (x | (x >> one)) & _LOW_BITS
+        row = np.int64((nonzero * _GATHER) >> top) * 8
+        base = 8 * w
+        for k in range(8):
+            hits[n_hits + k] = base + np.int64(_POSITIONS[row + k])
+        n_hits += np.int64((nonzero * _LOW_BITS) >> top)
+    for j in range(8 * full, total):
+        hits[n_hits] = j
+        n_hits += flags[j] != 0
+    return n_hits
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
