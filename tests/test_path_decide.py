@@ -1,4 +1,5 @@
-"""The load-path kernels' exact decision of the packed points is the scalar loop's, to the bit.
+"""The load-path kernels' exact decision of the packed points is the scalar loop's, to the bit;
+the sliding step's list of flagged points is numpy's.
 
 ``_decide.decide_packed`` runs the two-sphere contact (``geometry.sphere_contact``, Table 1,
 eqs. 7–10, eq. 9) on every packed point in one pass without branches (on vector units) and
@@ -7,6 +8,8 @@ width (eq. 10). Both are checked here against the scalar loop they replace, kept
 Python reference calling the same compiled scalar functions one point at a time, on points
 drawn around Table 1's and eq. 9's boundaries, some of them not kept, for a law without
 history (Hertz, in both of its kernel forms) and one with a memo in its state (JKR).
+``_decide.flag_list`` (the flagged positions, read off bit masks without a branch per flag)
+is checked against ``numpy.flatnonzero``, sparse and dense, at every length modulo 64.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.contact._decide import apply_law, decide_packed
+from splinecontact.contact._decide import apply_law, decide_packed, flag_list
 from splinecontact.contact.geometry import contact_centre_height, sphere_contact
 from splinecontact.contact.laws import Hertz, bind_law, kernel_material, make_law, normal_law
 from splinecontact.contact.loadpath import _scratch
@@ -106,9 +109,7 @@ def _decided(
         scratch.cl_nx[q] = n_x
         scratch.cl_nz[q] = n_z
         scratch.cl_keep[q] = keep
-    n_c = decide_packed(
-        len(packed), f_l, _DX, _KAPPA_MAX, cell_test, -material.reach, scratch
-    )
+    n_c = decide_packed(len(packed), f_l, _DX, _KAPPA_MAX, cell_test, -material.reach, scratch)
     apply_law(material.law_code, material.law_params, material.law_state, n_c, scratch)
     columns = ("idx", "fn", "ex", "ez", "xc", "z", "delta", "reff", "width")
     return [tuple(getattr(scratch, c)[k] for c in columns) for k in range(n_c)]
@@ -163,3 +164,24 @@ def test_the_decision_comparison_is_not_vacuous() -> None:
     assert all(row[1] > 0.0 and row[8] > 0.0 for row in got)  # overlapping: force and width
     # the contact cells given: the centre outside the cell is accepted too
     assert len(_decided(packed, f_l, math.inf, hertz)) == 3
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    total=st.integers(0, 300),
+    density=st.sampled_from([0.0, 0.02, 0.2, 0.7, 1.0]),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_the_flag_list_is_the_positions_of_the_set_flags(
+    total: int, density: float, seed: int
+) -> None:
+    rng = np.random.default_rng(seed)
+    flags = np.zeros(total + (-total) % 8 + 8, dtype=np.uint8)  # (whole words, as the kernel's)
+    set_ = rng.random(total) < density
+    flags[:total] = set_ * rng.integers(1, 4, size=total)
+    flags[total:] = 3  # past the end: never listed
+    hits = np.full(total, -1, dtype=np.int64)  # exactly ``total`` entries: no room past them
+    masks = np.empty(total // 8 + 8, dtype=np.uint8)
+    n_hits = flag_list(flags, total, hits, masks)
+    assert n_hits == np.count_nonzero(set_)
+    assert np.array_equal(hits[:n_hits], np.flatnonzero(set_))

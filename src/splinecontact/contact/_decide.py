@@ -16,6 +16,7 @@ from typing import Any
 
 import numba
 import numpy as np
+from numba.cpython.unsafe.numbers import trailing_zeros as _cttz
 from numpy.typing import NDArray
 
 from .geometry import contact_centre_height, sphere_contact
@@ -30,48 +31,68 @@ _centre_height = numba.njit(inline="always")(contact_centre_height.py_func)
 _normal_law = numba.njit(inline="always")(normal_law.py_func)
 
 
-def _bit_positions() -> NDArray[np.uint8]:
-    """Per byte value m: the positions of its set bits, ascending (8 entries, padded with 0)."""
-    positions = np.zeros((256, 8), dtype=np.uint8)
-    for m in range(256):
-        set_bits = [k for k in range(8) if (m >> k) & 1]
-        positions[m, : len(set_bits)] = set_bits
-    return positions.ravel()
-
-
-_POSITIONS = _bit_positions()
+#: Trailing zero bits of an unsigned word (numba's intrinsic: one instruction; 64 for 0).
+_trailing_zeros: Any = _cttz
 _LOW_BITS = np.uint64(0x0101010101010101)  # bit 0 of each byte
 _GATHER = np.uint64(0x0102040810204080)  # (low bits × this) >> 56: byte k's bit at bit k
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _bit_count(x: np.uint64) -> np.int64:  # pragma: no cover - compiled
+    """The set bits of x (the compiler makes it one instruction where there is one)."""
+    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
+    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
+    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
+    return np.int64((x * _LOW_BITS) >> np.uint64(56))
+
+
 @numba.njit(cache=True, nogil=True)
 def flag_list(
-    flags: NDArray[np.uint8], total: int, hits: NDArray[np.int64]
+    flags: NDArray[np.uint8],
+    total: int,
+    hits: NDArray[np.int64],
+    masks: NDArray[np.uint8],
 ) -> int:  # pragma: no cover - compiled
     """The positions j < ``total`` of the nonzero ``flags`` (each 0–3), ascending, into
     ``hits``; their count.
 
-    Without a branch per flag or per word (few flags are set, at random: a branch would be
-    mispredicted at most of them): each eight flags, read as one word, give a byte of
-    nonzero bits whose set positions a table lists; all eight entries are written, the count
-    advanced by the set ones. ``hits`` must hold ``total`` entries.
+    Few flags are set, at random: a branch per flag or per word of flags would be mispredicted
+    at many of them. So almost no branch depends on a flag: each eight flags, read as one
+    word, give a byte of nonzero bits (``masks``, on vector units), each 64 flags a word of
+    them, from which four positions are read off without a branch (a word with more set bits
+    is rare: the others in a loop) and the count advanced by the set ones. ``hits`` must hold
+    ``total`` entries, ``masks`` ``total``/8 + 8 bytes (scratch).
     """
-    n_hits = 0
-    full = total >> 3
-    words = flags[: 8 * full].view(np.uint64)
+    n_words = total >> 3
+    words = flags[: 8 * n_words].view(np.uint64)
     one = np.uint64(1)
-    top = np.uint64(56)
-    for w in range(full):
-        x = words[w]
-        nonzero = (x | (x >> one)) & _LOW_BITS
-        row = np.int64((nonzero * _GATHER) >> top) * 8
-        base = 8 * w
-        for k in range(8):
-            hits[n_hits + k] = base + np.int64(_POSITIONS[row + k])
-        n_hits += np.int64((nonzero * _LOW_BITS) >> top)
-    for j in range(8 * full, total):
-        hits[n_hits] = j
-        n_hits += flags[j] != 0
+    for w in range(n_words):
+        nonzero = (words[w] | (words[w] >> one)) & _LOW_BITS
+        masks[w] = np.uint8((nonzero * _GATHER) >> np.uint64(56))
+    tail = 0  # the last flags, fewer than eight
+    for j in range(8 * n_words, total):
+        tail |= (flags[j] != 0) << (j - 8 * n_words)
+    n_chunks = (n_words >> 3) + 1
+    masks[n_words] = tail
+    masks[n_words + 1 : 8 * n_chunks] = 0
+    bits = masks[: 8 * n_chunks].view(np.uint64)  # bit j of word c: flag 64c + j
+    n_hits = 0
+    room = hits.size - 4
+    for c in range(n_chunks):
+        m = bits[c]
+        base = 64 * c
+        count = int(_bit_count(m))
+        if n_hits <= room:  # (always, but at the very end of a full list)
+            for e in range(4):  # past the set bits: written, not counted
+                hits[n_hits + e] = base + _trailing_zeros(m)
+                m &= m - one
+            first = 4
+        else:
+            first = 0
+        for e in range(first, count):
+            hits[n_hits + e] = base + _trailing_zeros(m)
+            m &= m - one
+        n_hits += count
     return n_hits
 
 
