@@ -26,7 +26,7 @@ from .path_kernel import (
     Springs,
     StepSums,
     _fixed_shift_values,
-    _pack,
+    _pack_lower,
     _settle,
     _upper_height,
     _upper_slopes,
@@ -100,8 +100,14 @@ def slide_step(
                 s1, s2 = _upper_slopes(surf, k, t)
             else:
                 keep = False
-        _pack(scratch, h, surf, i, g, s1, s2)
+        scratch.cl_i[h] = i
+        scratch.cl_g[h] = g
+        scratch.cl_s1[h] = s1
+        scratch.cl_s2[h] = s2
         scratch.cl_keep[h] = keep
+    # The lower spheres (evaluated by the pass) in a loop of their own: its loads, with no
+    # branch between them, are in flight together.
+    _pack_lower(scratch, surf, n_hits)
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
         False, n_hits, n_closed,

@@ -175,9 +175,22 @@ def _pack(
     scratch.cl_g[q] = g
     scratch.cl_s1[q] = s1
     scratch.cl_s2[q] = s2
+    _lower_sphere(scratch, q, surf, i)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _lower_sphere(scratch: Scratch, q: int, surf: Surfaces, i: int) -> None:  # pragma: no cover
+    """Store the lower sphere (κ^l, n^l) of point i as packed entry q (evaluated: :func:`_pack`)."""
     scratch.cl_kl[q] = surf.kappa_l[i]
     scratch.cl_nx[q] = surf.nl_x[i]
     scratch.cl_nz[q] = surf.nl_z[i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _pack_lower(scratch: Scratch, surf: Surfaces, n_packed: int) -> None:  # pragma: no cover
+    """:func:`_lower_sphere` of the packed points q < n_packed (their index ``cl_i[q]``)."""
+    for q in range(n_packed):
+        _lower_sphere(scratch, q, surf, scratch.cl_i[q])
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
