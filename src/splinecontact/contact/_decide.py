@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from .geometry import contact_centre_height, sphere_contact
 from .laws import normal_law
 
-__all__ = ["apply_law", "decide_packed", "flag_list"]
+__all__ = ["apply_law", "decide_packed", "flag_list", "packed_columns"]
 
 # The same functions compiled into the caller (numba inlines their source), so that a loop
 # calling them has no call in it and the vectoriser can take it.
@@ -111,6 +111,31 @@ def _upper_sphere(
     return k_u, s1 / norm_u, 1.0 / norm_u
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def packed_columns(
+    scratch: Any,
+) -> tuple[
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.bool_],
+]:  # pragma: no cover - compiled
+    """The packed points' columns g [µm], S′ [1], S″ [1/µm], κ^l [1/µm], n^l_x, n^l_z [1] and
+    the kept flags (``scratch.cl_*``, :class:`.path_kernel.Scratch`)."""
+    return (
+        scratch.cl_g,
+        scratch.cl_s1,
+        scratch.cl_s2,
+        scratch.cl_kl,
+        scratch.cl_nx,
+        scratch.cl_nz,
+        scratch.cl_keep,
+    )
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def decide_packed(
     n_packed: int,
@@ -148,13 +173,7 @@ def decide_packed(
         eq. 9, δ > ``min_delta``, eqs. 7–8 and 10 by :func:`.geometry.sphere_contact`).
     """
     i_a = scratch.cl_i
-    g_a = scratch.cl_g
-    s1_a = scratch.cl_s1
-    s2_a = scratch.cl_s2
-    kl_a = scratch.cl_kl
-    nx_a = scratch.cl_nx
-    nz_a = scratch.cl_nz
-    keep = scratch.cl_keep
+    g_a, s1_a, s2_a, kl_a, nx_a, nz_a, keep = packed_columns(scratch)
     idx = scratch.idx
     ex = scratch.ex
     ez = scratch.ez
@@ -209,10 +228,7 @@ def apply_law(
     """``scratch.fn`` [mN/µm] and ``scratch.width`` [µm] of the accepted contacts c < n_c
     (:func:`.laws.normal_law`, eq. 10, in their order; a law without history state runs on
     vector units)."""
-    idx = scratch.idx
-    delta = scratch.delta
-    reff = scratch.reff
-    fn = scratch.fn
-    width = scratch.width
     for c in range(n_c):
-        fn[c], width[c] = _normal_law(code, params, delta[c], reff[c], law_state, idx[c])
+        scratch.fn[c], scratch.width[c] = _normal_law(
+            code, params, scratch.delta[c], scratch.reff[c], law_state, scratch.idx[c]
+        )

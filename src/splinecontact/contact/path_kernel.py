@@ -36,7 +36,7 @@ from ._culling import (
     sphere_ready,
 )
 from ._decide import _upper_sphere as _upper_sphere
-from ._decide import apply_law, decide_packed
+from ._decide import apply_law, decide_packed, packed_columns
 from ._filter import _may_touch, flagged_positions
 from ._migration import migrate as _migrate
 from .laws import Material, commit_law, release_law, spring_sums
@@ -244,13 +244,7 @@ def _filter_closed(
     on vector units: its tests are widened by a bound of the rounding errors, so that no point
     the exact test accepts is dropped. The kept points are decided exactly afterwards.
     """
-    g_a = scratch.cl_g
-    s1_a = scratch.cl_s1
-    s2_a = scratch.cl_s2
-    kl_a = scratch.cl_kl
-    nx_a = scratch.cl_nx
-    nz_a = scratch.cl_nz
-    keep = scratch.cl_keep
+    g_a, s1_a, s2_a, kl_a, nx_a, nz_a, keep = packed_columns(scratch)
     dx = 2.0 * half_dx
     for q in range(n_cl):
         keep[q] = _may_touch(
