@@ -226,8 +226,8 @@ def apply_law(
     scratch: Any,
 ) -> None:  # pragma: no cover - compiled
     """``scratch.fn`` [mN/µm] and ``scratch.width`` [µm] of the accepted contacts c < n_c
-    (:func:`.laws.normal_law`, eq. 10, in their order; a law without history state runs on
-    vector units)."""
+    (:func:`.laws.normal_law`, eq. 10, in their order; Hertz, typed alone, runs on vector
+    units)."""
     for c in range(n_c):
         scratch.fn[c], scratch.width[c] = _normal_law(
             code, params, scratch.delta[c], scratch.reff[c], law_state, scratch.idx[c]
