@@ -19,14 +19,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._culling import Culling, Surfaces, candidate_blocks, candidate_bounds, run_flags, step_runs
-from ._filter import flagged_positions
+from ._decide import flag_list
 from .laws import Material
 from .path_kernel import (
     Scratch,
     Springs,
     StepSums,
     _fixed_shift_values,
-    _pack,
+    _pack_lower,
     _settle,
     _upper_height,
     _upper_slopes,
@@ -72,38 +72,45 @@ def slide_step(
     total = 0
     for r in range(n_runs):
         total += run_len[r]
-    # The positions of the set flags (``scratch.idx`` is free until the exact decision).
+    # The positions of the set flags (``scratch.idx`` is free until the exact decision, and
+    # ``cl_keep`` until the packing).
     hits = scratch.idx
-    n_hits = flagged_positions(flags, total, hits)
-    n_packed = 0
-    r = 0  # the run of flag o …
-    o = 0  # … starting at flag o (o + run_len[r] > pos)
+    n_hits = flag_list(flags, total, hits, scratch.cl_keep.view(np.uint8))
+    # Flagged point h packed as entry h (in place: h ≤ its position); one the pass could not
+    # decide is evaluated again alone, and kept (``cl_keep``) only if its gap has closed.
+    r = 0  # the next run, …
+    end = 0  # … starting at this position
+    off = 0  # grid index − position in the current run
     for h in range(n_hits):
         pos = hits[h]
-        flag = flags[pos]
-        while pos >= o + run_len[r]:
-            o += run_len[r]
+        while pos >= end:
+            off = run_start[r] - end
+            end += run_len[r]
             r += 1
-        i = run_start[r] + (pos - o)
-        if flag == 1:  # the values of the vector pass (the same), packed in place (q ≤ pos)
-            g = scratch.cl_g[pos]
-            s1 = scratch.cl_s1[pos]
-            s2 = scratch.cl_s2[pos]
-        else:
+        i = pos + off
+        g = scratch.cl_g[pos]  # the values of the vector pass (the same)
+        s1 = scratch.cl_s1[pos]
+        s2 = scratch.cl_s2[pos]
+        keep = True
+        if flags[pos] != 1:
             inside, h_u, k, t = _upper_height(surf, i, shift)
-            if not inside:
-                continue
             g = (placement - (h_u + f_l[i])) - d
-            if g > reach:
-                continue
-            n_closed += 1
-            s1, s2 = _upper_slopes(surf, k, t)
-        _pack(scratch, n_packed, surf, i, g, s1, s2)
-        scratch.cl_keep[n_packed] = True
-        n_packed += 1
+            if inside and not g > reach:
+                n_closed += 1
+                s1, s2 = _upper_slopes(surf, k, t)
+            else:
+                keep = False
+        scratch.cl_i[h] = i
+        scratch.cl_g[h] = g
+        scratch.cl_s1[h] = s1
+        scratch.cl_s2[h] = s2
+        scratch.cl_keep[h] = keep
+    # The lower spheres (evaluated by the pass) in a loop of their own: its loads, with no
+    # branch between them, are in flight together.
+    _pack_lower(scratch, surf, n_hits)
     return _settle(
         u, d, du, dd, True, surf, material, migrate_cells, springs, scratch, springs.claimed,
-        False, n_packed, n_closed,
+        False, n_hits, n_closed,
     )  # fmt: skip
 
 

@@ -35,10 +35,11 @@ from ._culling import (
     sliding_flags,
     sphere_ready,
 )
+from ._decide import _upper_sphere as _upper_sphere
+from ._decide import apply_law, decide_packed, packed_columns
 from ._filter import _may_touch, flagged_positions
 from ._migration import migrate as _migrate
-from .geometry import contact_centre_height, sphere_contact
-from .laws import Material, commit_law, normal_law, release_law, spring_sums
+from .laws import Material, commit_law, release_law, spring_sums
 
 __all__ = [
     "Culling",
@@ -162,20 +163,6 @@ def _upper_slopes(
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _upper_sphere(
-    s1: float, s2: float, kappa_max: float
-) -> tuple[float, float, float]:  # pragma: no cover - compiled
-    """(κ^u clamped to ±kappa_max, m_x, m_z) of the upper surface of slope s1 and f″ s2."""
-    norm_u = math.sqrt(1.0 + s1 * s1)
-    k_u = -s2 / (norm_u * norm_u * norm_u)
-    if k_u > kappa_max:
-        k_u = kappa_max
-    elif k_u < -kappa_max:
-        k_u = -kappa_max
-    return k_u, s1 / norm_u, 1.0 / norm_u
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
 def _pack(
     scratch: Scratch, q: int, surf: Surfaces, i: int, g: float, s1: float, s2: float
 ) -> None:  # pragma: no cover - compiled
@@ -188,9 +175,22 @@ def _pack(
     scratch.cl_g[q] = g
     scratch.cl_s1[q] = s1
     scratch.cl_s2[q] = s2
+    _lower_sphere(scratch, q, surf, i)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _lower_sphere(scratch: Scratch, q: int, surf: Surfaces, i: int) -> None:  # pragma: no cover
+    """Store the lower sphere (κ^l, n^l) of point i as packed entry q (evaluated: :func:`_pack`)."""
     scratch.cl_kl[q] = surf.kappa_l[i]
     scratch.cl_nx[q] = surf.nl_x[i]
     scratch.cl_nz[q] = surf.nl_z[i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _pack_lower(scratch: Scratch, surf: Surfaces, n_packed: int) -> None:  # pragma: no cover
+    """:func:`_lower_sphere` of the packed points q < n_packed (their index ``cl_i[q]``)."""
+    for q in range(n_packed):
+        _lower_sphere(scratch, q, surf, scratch.cl_i[q])
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -244,13 +244,7 @@ def _filter_closed(
     on vector units: its tests are widened by a bound of the rounding errors, so that no point
     the exact test accepts is dropped. The kept points are decided exactly afterwards.
     """
-    g_a = scratch.cl_g
-    s1_a = scratch.cl_s1
-    s2_a = scratch.cl_s2
-    kl_a = scratch.cl_kl
-    nx_a = scratch.cl_nx
-    nz_a = scratch.cl_nz
-    keep = scratch.cl_keep
+    g_a, s1_a, s2_a, kl_a, nx_a, nz_a, keep = packed_columns(scratch)
     dx = 2.0 * half_dx
     for q in range(n_cl):
         keep[q] = _may_touch(
@@ -397,46 +391,21 @@ def _settle(
 ) -> StepSums:  # pragma: no cover - compiled
     """The packed closed points of a configuration decided exactly, the springs moved (eqs.
     9–13); see :func:`path_step`. ``n_closed`` is reported as ``n_candidates``."""
-    f_l = surf.f_l
-    n = f_l.size
-    reach = material.reach
-    half_dx = 0.5 * surf.dx
-    kappa_max = surf.kappa_max
+    n = surf.f_l.size
     code = material.law_code
     params = material.law_params
     law_state = material.law_state
-    cell_test = np.inf if use_fixed else half_dx  # eq. 9 given: the offset test always passes
     # 3. The exact tests (Table 1, eq. 9, eq. 10) on the kept points, in grid order.
-    n_c = 0
-    for q in range(n_packed):
-        i = scratch.cl_i[q]
-        if use_fixed:
-            if not fixed[i]:
-                continue
-        elif not scratch.cl_keep[q]:
-            continue
-        g = scratch.cl_g[q]
-        s1 = scratch.cl_s1[q]
-        k_l = scratch.cl_kl[q]
-        k_u, m_x, m_z = _upper_sphere(s1, scratch.cl_s2[q], kappa_max)
-        n_z = scratch.cl_nz[q]
-        accepted, delta, offset, e_x, e_z, y_norm = sphere_contact(
-            g, k_l, k_u, m_x, m_z, scratch.cl_nx[q], n_z, cell_test, -reach
-        )
-        if not accepted:
-            continue
-        reff = 2.0 / (k_l + k_u)
-        f_n, width = normal_law(code, params, delta, reff, law_state, i)
-        scratch.idx[n_c] = i
-        scratch.fn[n_c] = f_n
-        scratch.ex[n_c] = e_x
-        scratch.ez[n_c] = e_z
-        scratch.xc[n_c] = i * surf.dx + offset
-        scratch.z[n_c] = f_l[i] + contact_centre_height(g, k_l, k_u, m_z, n_z, delta, y_norm)
-        scratch.delta[n_c] = delta
-        scratch.reff[n_c] = reff
-        scratch.width[n_c] = width
-        n_c += 1
+    if use_fixed:  # eq. 9 given: the offset test always passes; the given cells only
+        for q in range(n_packed):
+            scratch.cl_keep[q] = fixed[scratch.cl_i[q]]
+        cell_test = np.inf
+    else:
+        cell_test = 0.5 * surf.dx
+    n_c = decide_packed(
+        n_packed, surf.f_l, surf.dx, surf.kappa_max, cell_test, -material.reach, scratch
+    )
+    apply_law(code, params, law_state, n_c, scratch)
 
     _migrate(n, n_c, migrate_cells, springs, scratch, True)  # (cl_* are free: scratch)
 
