@@ -14,7 +14,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._filter import _may_touch
+from ._filter import _touches, widenings
 
 __all__ = [
     "SPHERE_BLOCK",
@@ -264,7 +264,7 @@ def candidate_bounds(
     return count
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _run_flags(
     i0: int,
     k0: int,
@@ -282,6 +282,8 @@ def _run_flags(
     gamma_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    e_d: float,
+    e_9: float,
 ) -> int:  # pragma: no cover - compiled
     """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
 
@@ -289,8 +291,10 @@ def _run_flags(
     flag; contiguous, so that the loop runs on vector units. A point whose knot interval
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
     (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
-    itself: passing it to a function called per run costs more than the run's arithmetic).
-    ``values`` receives each point's gap g, S′ and S″ (read back for the points flagged 1).
+    itself). ``e_d``, ``e_9``: the filter's widenings (:func:`._filter.widenings`) at an upper
+    bound of |g| over the run's closed points, the same for every point. ``values`` receives
+    each point's gap g, S′ and S″ (read back for the points flagged 1). Inlined into the loop
+    over the runs (a call per run costs more than a short run's arithmetic).
     """
     inv_dx = 1.0 / dx
     g_out, s1_out, s2_out = values
@@ -314,7 +318,9 @@ def _run_flags(
         s2_out[p] = s2
         closed = same & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach)
+        keep = closed & _touches(
+            g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach, e_d, e_9
+        )
         flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
     return n_closed
 
@@ -335,6 +341,8 @@ def _knot_flags(
     curv_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    e_d: float,
+    e_9: float,
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
     g_out, s1_out, s2_out = values
@@ -347,11 +355,31 @@ def _knot_flags(
         s2_out[p] = curv_u[p]
         closed = not g > reach
         n_closed += closed
-        keep = closed & _may_touch(
-            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach
+        keep = closed & _touches(
+            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach, e_d, e_9
         )
         flags[p] = np.uint8(keep)
     return n_closed
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _gap_widening(
+    surf: Surfaces, top: float, d: float, reach: float
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The filter's widenings (E_δ, E₉) for every closed point whose f^l + f^u(ξ) ≤ ``top``.
+
+    Such a point's gap g = C − (f^u + f^l) − δ_N (as rounded) lies in
+    [C − δ_N − top, reach]: |g| ≤ G = max(reach, top − C + δ_N), enlarged by 10⁻¹² of the
+    magnitudes (far above the rounding of g and of G). :func:`._filter.widenings` at K·G is
+    then at least that at the point's own K·|g|: the pass refuses no point that
+    :func:`._filter._may_touch` keeps. ``top`` = −∞ (no point): G = reach.
+    """
+    gap = reach
+    if top > -np.inf:
+        c = surf.placement
+        slack = 1e-12 * (abs(top) + abs(c) + abs(d) + reach)
+        gap = max(reach, ((top - c) + d) + slack)
+    return widenings(surf.kappa_max * gap, surf.kappa_max, surf.dx, reach)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -362,13 +390,15 @@ def _flag_run(
     shift: float,
     d: float,
     reach: float,
+    widening: tuple[float, float],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed.
 
     ``values`` (three arrays aligned with ``flags``) receives g, S′ and S″ of the points
-    inside the upper body (those not flagged 2 for it)."""
+    inside the upper body (those not flagged 2 for it); ``widening``: the filter's (E_δ, E₉)
+    (:func:`._filter.widenings`) at an upper bound of |g| over the closed points."""
     top = surf.f_u.size - 2  # last knot interval
     k0 = math.floor(i0 - shift)
     p_lo = min(max(0, -k0), length)
@@ -392,12 +422,12 @@ def _flag_run(
         return _knot_flags(
             d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
             surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
-            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part,
+            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part, widening[0], widening[1],
         )  # fmt: skip
     return _run_flags(
         a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
         surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
-        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part,
+        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part, widening[0], widening[1],
     )  # fmt: skip
 
 
@@ -420,13 +450,18 @@ def sliding_flags(
     ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
     evaluation, so the values are the same to the bit; written to ``values``, three arrays
     aligned with ``flags``: g, S′, S″), the gap g, and the conservative filter
-    :func:`._filter._may_touch`. ``flags[j]`` is 1 for the candidates that are inside the
+    :func:`._filter._may_touch` (with the widenings of the largest |g| the bounds allow,
+    :func:`_gap_widening`). ``flags[j]`` is 1 for the candidates that are inside the
     upper body, have ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset
     of those the exact tests accept), 2 for the few the pass could not decide (to be evaluated
     alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold,
     g ≤ reach) among those flagged 0 or 1.
     """
     m = cand.size
+    top = -np.inf
+    for j in range(m):
+        top = max(top, bound[j])
+    widening = _gap_widening(surf, top, d, reach)
     n_closed = 0
     j0 = 0
     while j0 < m:
@@ -435,7 +470,7 @@ def sliding_flags(
         while j1 < m and cand[j1] == i0 + (j1 - j0):
             j1 += 1
         n_closed += _flag_run(
-            surf, i0, j1 - j0, shift, d, reach, flags[j0:j1],
+            surf, i0, j1 - j0, shift, d, reach, widening, flags[j0:j1],
             (values[0][j0:j1], values[1][j0:j1], values[2][j0:j1]),
         )  # fmt: skip
         j0 = j1
@@ -482,7 +517,7 @@ def step_runs(
     threshold: float,
     run_start: NDArray[np.int64],
     run_len: NDArray[np.int64],
-) -> int:  # pragma: no cover - compiled
+) -> tuple[int, float]:  # pragma: no cover - compiled
     """Runs of consecutive points whose rigid gap can close at one shift (grid order).
 
     Within the given ``blocks`` (which must hold every block that can touch at this shift,
@@ -491,7 +526,8 @@ def step_runs(
     ⌊i0 − shift⌋ − 1 … ⌊i1 − shift⌋ + 1 (those its points evaluate, with one interval to spare
     for rounding) is ≥ ``threshold``; kept neighbours are merged. The intervals are taken by
     whole sub-blocks of the envelope, the same offset for every sub-block. Returns the number
-    of runs (start point, length) written.
+    of runs (start point, length) written and the largest bound of a kept sub-block (an upper
+    bound of f^l + f^u(ξ) over the runs' points [µm], for :func:`run_flags`; −∞ if none).
     """
     n = surf.f_l.size
     f_l_sub = cull.f_l_sub
@@ -500,32 +536,43 @@ def step_runs(
     per_block = cull.block // sub
     margin = cull.margin
     n_sub = f_l_sub.size
-    top = envelope_sub.size - 1
+    last = envelope_sub.size - 1
     # ⌊i − shift⌋ (as rounded) is i + c or i + c + 1: sub-block q's points (16q … 16q + 15)
     # see the knot intervals 16q + c − 1 … 16q + 15 + c + 2, in the envelope's sub-blocks
-    # q + a … q + b whatever q (a window at least as wide as the one stated above)
+    # q + a … q + b whatever q (a window at least as wide as the one stated above): two or
+    # three of them (b − a is 1 or 2, as the window spans sub + 3 ≤ 2·sub intervals)
     c = math.floor(-shift)
     a = (c - 1) // sub
     b = (sub + 1 + c) // sub
+    # Without a branch per sub-block: run_start[r] receives the first sub-block of run r,
+    # run_len[r + 1] one past its last (rewritten while the run grows), then the lengths.
     n_runs = 0
-    end = -1  # one past the last kept point
+    top = -np.inf
+    end = -2  # one past the last kept sub-block
     for blk in blocks:
         for q in range(blk * per_block, min(n_sub, (blk + 1) * per_block)):
-            lo = max(0, q + a)
-            hi = min(top, q + b)
-            if hi < lo or f_l_sub[q] + _window_max(envelope_sub, lo, hi) + margin < threshold:
-                continue
-            i0 = q * sub
-            if i0 == end:
-                run_len[n_runs - 1] += sub
+            lo = q + a
+            hi = q + b
+            if lo >= 0 and hi <= last:  # inside: max of entries lo, lo + 1, hi (no loop)
+                e_lo = envelope_sub[lo]
+                e_mid = envelope_sub[lo + 1]
+                e_hi = envelope_sub[hi]
+                e_max = e_lo if e_lo > e_mid else e_mid
+                e_max = e_max if e_max > e_hi else e_hi
             else:
-                run_start[n_runs] = i0
-                run_len[n_runs] = sub
-                n_runs += 1
-            end = i0 + sub
-    if end > n:  # the last sub-block is short
-        run_len[n_runs - 1] -= end - n
-    return n_runs
+                e_max = _window_max(envelope_sub, max(0, lo), min(last, hi))
+            v = f_l_sub[q] + e_max + margin
+            kept = v >= threshold
+            top = max(top, v if kept else -np.inf)
+            run_start[n_runs] = q
+            n_runs += kept & (q != end)
+            end = q + 1 if kept else end
+            run_len[n_runs] = end
+    for r in range(n_runs):  # sub-blocks → points (the last sub-block may be short)
+        first = run_start[r] * sub
+        run_start[r] = first
+        run_len[r] = min(run_len[r + 1] * sub, n) - first
+    return n_runs, top
 
 
 @numba.njit(cache=True, nogil=True)
@@ -537,19 +584,24 @@ def run_flags(
     shift: float,
     d: float,
     reach: float,
+    top: float,
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
 ) -> int:  # pragma: no cover - compiled
     """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order);
     ``values`` (aligned with ``flags``) receives g, S′, S″ of the points inside the upper
-    body, the same values as the scalar evaluation's (:func:`sliding_flags`)."""
+    body, the same values as the scalar evaluation's (:func:`sliding_flags`). ``top`` [µm]:
+    an upper bound of f^l + f^u(ξ) over the runs' points (:func:`step_runs`), which bounds
+    |g| over the closed ones: the filter's widenings are those of that bound, computed once
+    (:func:`_gap_widening`)."""
+    widening = _gap_widening(surf, top, d, reach)
     n_closed = 0
     o = 0
     for r in range(n_runs):
         length = run_len[r]
         run = (values[0][o : o + length], values[1][o : o + length], values[2][o : o + length])
         n_closed += _flag_run(
-            surf, run_start[r], length, shift, d, reach, flags[o : o + length], run
+            surf, run_start[r], length, shift, d, reach, widening, flags[o : o + length], run
         )
         o += length
     return n_closed

@@ -47,6 +47,7 @@ def slide_step(
     run_start: NDArray[np.int64],
     run_len: NDArray[np.int64],
     n_runs: int,
+    top: float,
     material: Material,
     migrate_cells: int,
     springs: Springs,
@@ -68,7 +69,7 @@ def slide_step(
     shift = u / surf.dx
     flags = scratch.cl_flag
     values = (scratch.cl_g, scratch.cl_s1, scratch.cl_s2)
-    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags, values)
+    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, top, flags, values)
     total = 0
     for r in range(n_runs):
         total += run_len[r]
@@ -192,12 +193,12 @@ def run_steps(
         dd = d - d_cur
         window = migrate_cells_of(du, dd, dx, surf.f_l.size)
         if sliding:
-            n_runs = step_runs(
+            n_runs, top = step_runs(
                 surf, cull, blocks[:count], u / dx, surf.placement - d - material.reach,
                 run_start, run_len,
             )  # fmt: skip
             sums = slide_step(
-                u, d, du, dd, surf, run_start, run_len, n_runs, material, window, springs,
+                u, d, du, dd, surf, run_start, run_len, n_runs, top, material, window, springs,
                 scratch,
             )  # fmt: skip
         else:
