@@ -509,6 +509,52 @@ def candidate_blocks(
 
 
 @numba.njit(cache=True, nogil=True)
+def _kept_runs(
+    f_l_sub: NDArray[np.float64],
+    envelope_sub: NDArray[np.float64],
+    blocks: NDArray[np.int64],
+    per_block: int,
+    a: int,
+    width: int,
+    margin: float,
+    threshold: float,
+    run_start: NDArray[np.int64],
+    run_len: NDArray[np.int64],
+) -> tuple[int, float]:  # pragma: no cover - compiled
+    """:func:`step_runs` by sub-blocks: sub-block q (of the ``blocks``) is kept when
+    f_l_sub[q] + max(envelope_sub[q + a … q + a + width]) (clipped) + margin ≥ ``threshold``
+    (width 1 or 2). Without a branch per sub-block: run_start[r] receives the first sub-block
+    of run r, run_len[r + 1] one past its last (rewritten while the run grows). Returns the
+    number of runs and the largest bound of a kept sub-block (−∞ if none)."""
+    n_sub = f_l_sub.size
+    last = envelope_sub.size - 1
+    n_runs = 0
+    top = -np.inf
+    end = -2  # one past the last kept sub-block
+    for blk in blocks:
+        q0 = blk * per_block
+        q1 = min(n_sub, q0 + per_block)
+        inside = q0 + a >= 0 and q1 - 1 + a + width <= last
+        for q in range(q0, q1):
+            lo = q + a
+            if inside:  # max of entries lo, lo + 1, lo + width (no loop, no clipping)
+                e_max = max(
+                    max(envelope_sub[np.uint64(lo)], envelope_sub[np.uint64(lo + 1)]),
+                    envelope_sub[np.uint64(lo + width)],
+                )
+            else:
+                e_max = _window_max(envelope_sub, max(0, lo), min(last, lo + width))
+            v = f_l_sub[np.uint64(q)] + e_max + margin
+            kept = v >= threshold
+            top = max(top, v if kept else -np.inf)
+            run_start[np.uint64(n_runs)] = q
+            n_runs += kept & (q != end)
+            end = q + 1 if kept else end
+            run_len[np.uint64(n_runs)] = end
+    return n_runs, top
+
+
+@numba.njit(cache=True, nogil=True)
 def step_runs(
     surf: Surfaces,
     cull: Culling,
@@ -535,8 +581,6 @@ def step_runs(
     sub = cull.sub
     per_block = cull.block // sub
     margin = cull.margin
-    n_sub = f_l_sub.size
-    last = envelope_sub.size - 1
     # ⌊i − shift⌋ (as rounded) is i + c or i + c + 1: sub-block q's points (16q … 16q + 15)
     # see the knot intervals 16q + c − 1 … 16q + 15 + c + 2, in the envelope's sub-blocks
     # q + a … q + b whatever q (a window at least as wide as the one stated above): two or
@@ -544,30 +588,9 @@ def step_runs(
     c = math.floor(-shift)
     a = (c - 1) // sub
     b = (sub + 1 + c) // sub
-    # Without a branch per sub-block: run_start[r] receives the first sub-block of run r,
-    # run_len[r + 1] one past its last (rewritten while the run grows), then the lengths.
-    n_runs = 0
-    top = -np.inf
-    end = -2  # one past the last kept sub-block
-    for blk in blocks:
-        for q in range(blk * per_block, min(n_sub, (blk + 1) * per_block)):
-            lo = q + a
-            hi = q + b
-            if lo >= 0 and hi <= last:  # inside: max of entries lo, lo + 1, hi (no loop)
-                e_lo = envelope_sub[lo]
-                e_mid = envelope_sub[lo + 1]
-                e_hi = envelope_sub[hi]
-                e_max = e_lo if e_lo > e_mid else e_mid
-                e_max = e_max if e_max > e_hi else e_hi
-            else:
-                e_max = _window_max(envelope_sub, max(0, lo), min(last, hi))
-            v = f_l_sub[q] + e_max + margin
-            kept = v >= threshold
-            top = max(top, v if kept else -np.inf)
-            run_start[n_runs] = q
-            n_runs += kept & (q != end)
-            end = q + 1 if kept else end
-            run_len[n_runs] = end
+    n_runs, top = _kept_runs(
+        f_l_sub, envelope_sub, blocks, per_block, a, b - a, margin, threshold, run_start, run_len
+    )
     for r in range(n_runs):  # sub-blocks → points (the last sub-block may be short)
         first = run_start[r] * sub
         run_start[r] = first
