@@ -235,3 +235,68 @@ def test_step_runs_comparison_is_not_vacuous() -> None:
     """Fixed draws with several runs."""
     assert _check_step_runs(seed=2, shift=3.3, depth=0.5, window=10) >= 3
     assert _check_step_runs(seed=2, shift=-40.7, depth=0.2, window=10) >= 3
+
+
+def _window_bound_reference(f_max, coarse, width, first, last, lo, hi, m, margin):  # type: ignore[no-untyped-def]
+    """f_max + the largest coarse entry over the knot intervals [first + lo, last + hi]."""
+    k_lo, k_hi = max(0, first + lo), min(m - 1, last + hi)
+    if k_hi < k_lo:
+        return -np.inf
+    return f_max + max(coarse[k_lo // width : min(coarse.size - 1, k_hi // width) + 1]) + margin
+
+
+def _check_candidate_blocks(
+    seed: int, n_points: int, shift: float, window: int, depth: float
+) -> int:
+    """Compare candidate_blocks with the plain rule; returns the number of blocks."""
+    from splinecontact.contact import _culling as cu
+
+    lower, upper = weierstrass_mandelbrot_pair(
+        1.5, seed=seed, n_points=n_points, length=1e-4 * (n_points - 1)
+    )
+    geo = lp._prepare(lower, *fit_spline_pair(lower, upper, alpha=ALPHA, x0=X0))
+    surf, cull = geo.surf, geo.cull
+    n, m = surf.f_l.size, cull.envelope.size
+    threshold = surf.placement - depth * lower.peak_to_valley
+    lo = int(np.floor(-shift)) - 1 - window
+    hi = int(np.floor(-shift)) + 1 + window
+    blocks = np.empty(cull.f_l_block.size, dtype=np.int64)
+    count = cu.candidate_blocks(surf, cull, lo, hi, threshold, blocks)
+    span = cull.block * cull.per_super
+    expected = []
+    for sb in range(cull.f_l_super.size):
+        last = min(n, (sb + 1) * span) - 1
+        args = (cull.envelope_super, span, sb * span, last, lo, hi, m, cull.margin)
+        if _window_bound_reference(cull.f_l_super[sb], *args) < threshold:
+            continue
+        for b in range(sb * cull.per_super, min(cull.f_l_block.size, (sb + 1) * cull.per_super)):
+            last = min(n, (b + 1) * cull.block) - 1
+            args = (cull.envelope_block, cull.block, b * cull.block, last, lo, hi, m, cull.margin)
+            if _window_bound_reference(cull.f_l_block[b], *args) >= threshold:
+                expected.append(b)
+    assert list(blocks[:count]) == expected
+    return count
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n_points=st.integers(1100, 12_000),
+    shift=st.floats(-12_500.0, 12_500.0),
+    window=st.one_of(st.integers(0, 100), st.integers(0, 3000)),
+    depth=st.floats(0.0, 0.6),
+)
+def test_candidate_blocks_equal_the_plain_rule(
+    seed: int, n_points: int, shift: float, window: int, depth: float
+) -> None:
+    """The blocks of a sliding chunk (compiled, the windows of whole (super-)blocks without
+    divisions) are those of the plain rule: super-block bound, then block bound ≥ threshold,
+    with the windows clipped at both bodies' ends."""
+    _check_candidate_blocks(seed, n_points, shift, window, depth)
+
+
+def test_candidate_blocks_comparison_is_not_vacuous() -> None:
+    """Fixed draws keeping some blocks but not all, inside the bodies and at their ends."""
+    n_b = -(-10_001 // 64)
+    for shift, depth in ((0.5, 0.3), (-9000.2, 0.3), (5000.5, 0.6)):
+        assert 0 < _check_candidate_blocks(3, 10_001, shift, 40, depth) < n_b

@@ -497,14 +497,38 @@ def candidate_blocks(
     m = cull.envelope.size
     per_super = cull.per_super
     nb = cull.f_l_block.size
+    block = cull.block
+    span = block * per_super
+    f_l_super = cull.f_l_super
+    envelope_super = cull.envelope_super
+    f_l_block = cull.f_l_block
+    envelope_block = cull.envelope_block
+    margin = cull.margin
+    # Away from the ends, super-block sb (whole, points sb·span …) sees the coarse entries
+    # sb + a_s … sb + a_s + w_s, block b those b + a_b … b + a_b + w_b: the same windows as
+    # _super_bound's and _block_bound's, without their divisions.
+    a_s = offset_lo // span
+    w_s = (span - 1 + offset_hi) // span - a_s
+    a_b = offset_lo // block
+    w_b = (block - 1 + offset_hi) // block - a_b
     count = 0
-    for sb in range(cull.f_l_super.size):
-        if _super_bound(cull, n, m, sb, offset_lo, offset_hi) < threshold:
+    for sb in range(f_l_super.size):
+        p0 = sb * span
+        if p0 + offset_lo >= 0 and p0 + span - 1 + offset_hi <= m - 1 and p0 + span <= n:
+            e_max = _window_max(envelope_super, sb + a_s, sb + a_s + w_s)
+            if f_l_super[sb] + e_max + margin < threshold:
+                continue
+        elif _super_bound(cull, n, m, sb, offset_lo, offset_hi) < threshold:
             continue
         for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
-            if _block_bound(cull, n, m, b, offset_lo, offset_hi) >= threshold:
-                out_blocks[count] = b
-                count += 1
+            i0 = b * block
+            if i0 + offset_lo >= 0 and i0 + block - 1 + offset_hi <= m - 1 and i0 + block <= n:
+                e_max = _window_max(envelope_block, b + a_b, b + a_b + w_b)
+                bound = f_l_block[b] + e_max + margin
+            else:
+                bound = _block_bound(cull, n, m, b, offset_lo, offset_hi)
+            out_blocks[count] = b
+            count += bound >= threshold
     return count
 
 
