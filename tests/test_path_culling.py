@@ -2,7 +2,7 @@
 
 A displacement-controlled segment runs compiled (``path_kernel.run_steps``): a fixed-shift
 segment visits one candidate list sorted by a bound with the upper body evaluated once, and a
-sliding step visits only the runs of 16-point sub-blocks whose bound says they may touch,
+sliding step visits only the runs of 8-point sub-blocks whose bound says they may touch,
 flags them in one vector pass and decides the few flagged points exactly. The reference here
 visits every grid point at every step with the scalar evaluation (``path_step`` with all points
 as candidates and infinite bounds): every per-step output of a sliding step must be the same

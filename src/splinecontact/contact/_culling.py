@@ -393,19 +393,21 @@ def _flag_run(
     widening: tuple[float, float],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    o: int,
 ) -> int:  # pragma: no cover - compiled
     """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed.
 
-    ``values`` (three arrays aligned with ``flags``) receives g, S′ and S″ of the points
-    inside the upper body (those not flagged 2 for it); ``widening``: the filter's (E_δ, E₉)
-    (:func:`._filter.widenings`) at an upper bound of |g| over the closed points."""
+    The run's flags are ``flags[o : o + length]``; ``values`` (three arrays aligned with
+    ``flags``) receives g, S′ and S″ of the points inside the upper body (those not flagged 2
+    for it); ``widening``: the filter's (E_δ, E₉) (:func:`._filter.widenings`) at an upper
+    bound of |g| over the closed points. (Each array is sliced once: a slice costs.)"""
     top = surf.f_u.size - 2  # last knot interval
     k0 = math.floor(i0 - shift)
     p_lo = min(max(0, -k0), length)
     p_hi = max(min(length, top - k0 + 1), p_lo)
-    for p in range(p_lo):
+    for p in range(o, o + p_lo):
         flags[p] = 2
-    for p in range(p_hi, length):
+    for p in range(o + p_hi, o + length):
         flags[p] = 2
     if p_hi == p_lo:
         return 0
@@ -416,18 +418,20 @@ def _flag_run(
         if not surf.sphere_done[blk]:  # (a call costs more than the test)
             fill_spheres(surf, a, e)
             break
-    part = (values[0][p_lo:p_hi], values[1][p_lo:p_hi], values[2][p_lo:p_hi])
+    q0 = o + p_lo
+    q1 = o + p_hi
+    part = (values[0][q0:q1], values[1][q0:q1], values[2][q0:q1])
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
             d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
             surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
-            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part, widening[0], widening[1],
+            surf.curv_u[b : b + e - a], flags[q0:q1], part, widening[0], widening[1],
         )  # fmt: skip
     return _run_flags(
         a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
         surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
-        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part, widening[0], widening[1],
+        surf.gamma_u[b : b + e - a + 1], flags[q0:q1], part, widening[0], widening[1],
     )  # fmt: skip
 
 
@@ -469,10 +473,7 @@ def sliding_flags(
         j1 = j0 + 1
         while j1 < m and cand[j1] == i0 + (j1 - j0):
             j1 += 1
-        n_closed += _flag_run(
-            surf, i0, j1 - j0, shift, d, reach, widening, flags[j0:j1],
-            (values[0][j0:j1], values[1][j0:j1], values[2][j0:j1]),
-        )  # fmt: skip
+        n_closed += _flag_run(surf, i0, j1 - j0, shift, d, reach, widening, flags, values, j0)
         j0 = j1
     return n_closed
 
@@ -646,9 +647,8 @@ def run_flags(
     o = 0
     for r in range(n_runs):
         length = run_len[r]
-        run = (values[0][o : o + length], values[1][o : o + length], values[2][o : o + length])
         n_closed += _flag_run(
-            surf, run_start[r], length, shift, d, reach, widening, flags[o : o + length], run
+            surf, run_start[r], length, shift, d, reach, widening, flags, values, o
         )
         o += length
     return n_closed
