@@ -185,7 +185,7 @@ def _runs_reference(cull, n, blocks, shift, threshold):  # type: ignore[no-untyp
 
 def _check_step_runs(seed: int, shift: float, depth: float, window: int) -> int:
     """Compare step_runs with the plain rule at one shift; returns the number of runs."""
-    from splinecontact.contact import _culling as cu
+    from splinecontact.contact import _sliding as cu
 
     lower, upper = weierstrass_mandelbrot_pair(1.5, seed=seed, n_points=1500, length=0.15)
     geo = lp._prepare(lower, *fit_spline_pair(lower, upper, alpha=ALPHA, x0=X0))
@@ -249,7 +249,7 @@ def _check_candidate_blocks(
     seed: int, n_points: int, shift: float, window: int, depth: float
 ) -> int:
     """Compare candidate_blocks with the plain rule; returns the number of blocks."""
-    from splinecontact.contact import _culling as cu
+    from splinecontact.contact import _sliding as cu
 
     lower, upper = weierstrass_mandelbrot_pair(
         1.5, seed=seed, n_points=n_points, length=1e-4 * (n_points - 1)

@@ -61,7 +61,7 @@ def _touches(
     """:func:`_may_touch` with given widenings E_δ, E₉ (:func:`widenings` at q ≥ K·|g|).
 
     The sliding pass gives the widenings of an upper bound of |g| over all its closed points,
-    the same for every point (:func:`._culling.run_flags`); :func:`_may_touch` those of the
+    the same for every point (:func:`._sliding.run_flags`); :func:`_may_touch` those of the
     point's own |g|.
     """
     r = 1.0 / math.sqrt(1.0 + s1 * s1)

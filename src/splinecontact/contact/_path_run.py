@@ -4,7 +4,7 @@
 A fixed-shift segment (no tangential motion) visits one candidate list sorted by a bound,
 with the upper body evaluated at the candidates once (:func:`.path_kernel.path_step`). A
 sliding step of a rough upper body (:func:`slide_step`) visits only the runs of sub-blocks
-whose bound says they may touch at that shift (:func:`._culling.step_runs`, within a block
+whose bound says they may touch at that shift (:func:`._sliding.step_runs`, within a block
 list rebuilt every ``chunk_cells`` of travel), flags them in one vector pass and decides the
 few flagged points exactly; its results are the same, to the bit, as the scalar evaluation
 of every point (``tests/test_path_culling.py``).
@@ -18,8 +18,9 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._culling import Culling, Surfaces, candidate_blocks, candidate_bounds, run_flags, step_runs
+from ._culling import Culling, Surfaces, candidate_bounds
 from ._filter import flagged_positions
+from ._sliding import candidate_blocks, run_flags, step_runs
 from .laws import Material
 from .path_kernel import (
     Scratch,
