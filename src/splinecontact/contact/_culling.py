@@ -298,11 +298,15 @@ def _run_flags(
     inv_dx = 1.0 / dx
     g_out, s1_out, s2_out = values
     n_closed = 0
+    dk = float(k0 - i0)
     for p in range(flags.size):
-        xi = (i0 + p) - shift
-        k = math.floor(xi)
-        t = xi - k
-        same = (k == k0 + p) & (t != 0.0)
+        # ⌊ξ⌋ and the test ⌊ξ⌋ = k0 + p in floating point (whole numbers, exact; t is the
+        # same as with the integer ⌊ξ⌋), with no conversion to and from integers
+        ip = float(i0 + p)
+        xi = ip - shift
+        kf = np.floor(xi)
+        t = xi - kf
+        same = (kf == ip + dk) & (t != 0.0)
         w = 1.0 - t
         fk = f_u[p]
         fk1 = f_u[p + 1]
@@ -382,6 +386,23 @@ def _gap_widening(
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
+def _run_span(
+    surf: Surfaces, i0: int, length: int, shift: float, flags: NDArray[np.uint8], o: int
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    """The part p_lo … p_hi − 1 of the run i0 … i0 + length − 1 inside the upper body (its
+    points' knot intervals k0 + p exist); the others flagged 2 (``flags[o + p]``)."""
+    top = surf.f_u.size - 2  # last knot interval
+    k0 = math.floor(i0 - shift)
+    p_lo = min(max(0, -k0), length)
+    p_hi = max(min(length, top - k0 + 1), p_lo)
+    for p in range(o, o + p_lo):
+        flags[p] = 2
+    for p in range(o + p_hi, o + length):
+        flags[p] = 2
+    return p_lo, p_hi, k0
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
 def _flag_run(
     surf: Surfaces,
     i0: int,
@@ -400,14 +421,7 @@ def _flag_run(
     ``flags``) receives g, S′ and S″ of the points inside the upper body (those not flagged 2
     for it); ``widening``: the filter's (E_δ, E₉) (:func:`._filter.widenings`) at an upper
     bound of |g| over the closed points. (Each array is sliced once: a slice costs.)"""
-    top = surf.f_u.size - 2  # last knot interval
-    k0 = math.floor(i0 - shift)
-    p_lo = min(max(0, -k0), length)
-    p_hi = max(min(length, top - k0 + 1), p_lo)
-    for p in range(o, o + p_lo):
-        flags[p] = 2
-    for p in range(o + p_hi, o + length):
-        flags[p] = 2
+    p_lo, p_hi, k0 = _run_span(surf, i0, length, shift, flags, o)
     if p_hi == p_lo:
         return 0
     a = i0 + p_lo

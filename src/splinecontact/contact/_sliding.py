@@ -15,13 +15,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._culling import (
+    _SPHERE_SHIFT,
     Culling,
     Surfaces,
     _block_bound,
     _flag_run,
     _gap_widening,
+    _run_flags,
+    _run_span,
     _super_bound,
     _window_max,
+    fill_spheres,
 )
 
 __all__ = ["candidate_blocks", "run_flags", "step_runs"]
@@ -194,10 +198,39 @@ def run_flags(
     widening = _gap_widening(surf, top, d, reach)
     n_closed = 0
     o = 0
+    if shift == math.floor(shift):  # every point on a knot (:func:`._culling._knot_flags`)
+        for r in range(n_runs):
+            length = run_len[r]
+            n_closed += _flag_run(
+                surf, run_start[r], length, shift, d, reach, widening, flags, values, o
+            )
+            o += length
+        return n_closed
+    done = surf.sphere_done
+    for r in range(n_runs):  # the lower spheres first (a call in the loop below slows it)
+        i0 = run_start[r]
+        i1 = i0 + run_len[r]
+        for blk in range(i0 >> _SPHERE_SHIFT, ((i1 - 1) >> _SPHERE_SHIFT) + 1):
+            if not done[blk]:  # (a call costs more than the test)
+                fill_spheres(surf, i0, i1)
+                break
+    e_d, e_9 = widening
+    g_all, s1_all, s2_all = values
     for r in range(n_runs):
+        i0 = run_start[r]
         length = run_len[r]
-        n_closed += _flag_run(
-            surf, run_start[r], length, shift, d, reach, widening, flags, values, o
-        )
+        p_lo, p_hi, k0 = _run_span(surf, i0, length, shift, flags, o)
+        if p_hi > p_lo:
+            a = i0 + p_lo
+            b = k0 + p_lo
+            e = i0 + p_hi
+            q0 = o + p_lo
+            q1 = o + p_hi
+            n_closed += _run_flags(
+                a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
+                surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
+                surf.gamma_u[b : b + e - a + 1], flags[q0:q1],
+                (g_all[q0:q1], s1_all[q0:q1], s2_all[q0:q1]), e_d, e_9,
+            )  # fmt: skip
         o += length
     return n_closed
