@@ -2,7 +2,7 @@
 
 A displacement-controlled segment runs compiled (``path_kernel.run_steps``): a fixed-shift
 segment visits one candidate list sorted by a bound with the upper body evaluated once, and a
-sliding step visits only the runs of 16-point sub-blocks whose bound says they may touch,
+sliding step visits only the runs of 8-point sub-blocks whose bound says they may touch,
 flags them in one vector pass and decides the few flagged points exactly. The reference here
 visits every grid point at every step with the scalar evaluation (``path_step`` with all points
 as candidates and infinite bounds): every per-step output of a sliding step must be the same
@@ -152,3 +152,151 @@ def test_the_comparisons_are_not_vacuous() -> None:
     d = 0.2 * lower.peak_to_valley
     path = [Segment(normal=d, steps=8), Segment(tangential=16 * dx, steps=16)]
     assert _assert_same(lower, upper, path) >= 3
+
+
+def _runs_reference(cull, n, blocks, shift, threshold):  # type: ignore[no-untyped-def]
+    """step_runs' rule in plain Python: sub-block q is kept when max f^l over it + the largest
+    envelope of the envelope sub-blocks q + a … q + b (clipped) + margin ≥ threshold."""
+    sub = cull.sub
+    c = int(np.floor(-shift))
+    a, b = (c - 1) // sub, (sub + 1 + c) // sub
+    last = cull.envelope_sub.size - 1
+    kept, bounds = [], []
+    per_block = cull.block // sub
+    for blk in blocks:
+        for q in range(blk * per_block, min(cull.f_l_sub.size, (blk + 1) * per_block)):
+            lo, hi = max(0, q + a), min(last, q + b)
+            if hi < lo:
+                continue
+            v = cull.f_l_sub[q] + max(cull.envelope_sub[lo : hi + 1]) + cull.margin
+            if v >= threshold:
+                kept.append(q)
+                bounds.append(v)
+    runs: list[list[int]] = []
+    for q in kept:
+        if runs and runs[-1][1] == q * sub:
+            runs[-1][1] += sub
+        else:
+            runs.append([q * sub, q * sub + sub])
+    starts = [r[0] for r in runs]
+    lengths = [min(r[1], n) - r[0] for r in runs]
+    return starts, lengths, max(bounds, default=-np.inf)
+
+
+def _check_step_runs(seed: int, shift: float, depth: float, window: int) -> int:
+    """Compare step_runs with the plain rule at one shift; returns the number of runs."""
+    from splinecontact.contact import _sliding as cu
+
+    lower, upper = weierstrass_mandelbrot_pair(1.5, seed=seed, n_points=1500, length=0.15)
+    geo = lp._prepare(lower, *fit_spline_pair(lower, upper, alpha=ALPHA, x0=X0))
+    surf, cull = geo.surf, geo.cull
+    n = surf.f_l.size
+    threshold = surf.placement - depth * lower.peak_to_valley
+    c = int(np.floor(-shift))
+    blocks = np.empty(cull.f_l_block.size, dtype=np.int64)
+    count = cu.candidate_blocks(surf, cull, c - 1 - window, c + 1 + window, threshold, blocks)
+    run_start = np.empty(cull.f_l_sub.size, dtype=np.int64)
+    run_len = np.empty(cull.f_l_sub.size, dtype=np.int64)
+    n_runs, top = cu.step_runs(surf, cull, blocks[:count], shift, threshold, run_start, run_len)
+    starts, lengths, top_ref = _runs_reference(cull, n, blocks[:count], shift, threshold)
+    assert list(run_start[:n_runs]) == starts
+    assert list(run_len[:n_runs]) == lengths
+    assert top == top_ref
+    in_runs = np.zeros(n, dtype=bool)
+    for s, length in zip(starts, lengths, strict=True):
+        in_runs[s : s + length] = True
+    for i in range(n):
+        inside, h_u, _, _ = pk._upper_height(surf, i, shift)
+        if inside and h_u + surf.f_l[i] >= threshold:
+            assert in_runs[i]
+        if inside and in_runs[i]:
+            assert h_u + surf.f_l[i] <= top
+    return n_runs
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    shift=st.floats(-1400.0, 1400.0),
+    depth=st.floats(0.0, 0.5),
+    window=st.integers(0, 60),
+)
+def test_step_runs_equal_the_plain_rule_and_bound_every_point(
+    seed: int, shift: float, depth: float, window: int
+) -> None:
+    """The runs of a sliding step (compiled, without a branch per sub-block) are those of the
+    plain rule; every point whose gap can close at the shift is in a run, and the returned
+    bound is at least f^l + f^u(ξ) at every point of the runs (what the filter's constant
+    widening rests on)."""
+    _check_step_runs(seed, shift, depth, window)
+
+
+def test_step_runs_comparison_is_not_vacuous() -> None:
+    """Fixed draws with several runs."""
+    assert _check_step_runs(seed=2, shift=3.3, depth=0.5, window=10) >= 3
+    assert _check_step_runs(seed=2, shift=-40.7, depth=0.2, window=10) >= 3
+
+
+def _window_bound_reference(f_max, coarse, width, first, last, lo, hi, m, margin):  # type: ignore[no-untyped-def]
+    """f_max + the largest coarse entry over the knot intervals [first + lo, last + hi]."""
+    k_lo, k_hi = max(0, first + lo), min(m - 1, last + hi)
+    if k_hi < k_lo:
+        return -np.inf
+    return f_max + max(coarse[k_lo // width : min(coarse.size - 1, k_hi // width) + 1]) + margin
+
+
+def _check_candidate_blocks(
+    seed: int, n_points: int, shift: float, window: int, depth: float
+) -> int:
+    """Compare candidate_blocks with the plain rule; returns the number of blocks."""
+    from splinecontact.contact import _sliding as cu
+
+    lower, upper = weierstrass_mandelbrot_pair(
+        1.5, seed=seed, n_points=n_points, length=1e-4 * (n_points - 1)
+    )
+    geo = lp._prepare(lower, *fit_spline_pair(lower, upper, alpha=ALPHA, x0=X0))
+    surf, cull = geo.surf, geo.cull
+    n, m = surf.f_l.size, cull.envelope.size
+    threshold = surf.placement - depth * lower.peak_to_valley
+    lo = int(np.floor(-shift)) - 1 - window
+    hi = int(np.floor(-shift)) + 1 + window
+    blocks = np.empty(cull.f_l_block.size, dtype=np.int64)
+    count = cu.candidate_blocks(surf, cull, lo, hi, threshold, blocks)
+    span = cull.block * cull.per_super
+    expected = []
+    for sb in range(cull.f_l_super.size):
+        last = min(n, (sb + 1) * span) - 1
+        args = (cull.envelope_super, span, sb * span, last, lo, hi, m, cull.margin)
+        if _window_bound_reference(cull.f_l_super[sb], *args) < threshold:
+            continue
+        for b in range(sb * cull.per_super, min(cull.f_l_block.size, (sb + 1) * cull.per_super)):
+            last = min(n, (b + 1) * cull.block) - 1
+            args = (cull.envelope_block, cull.block, b * cull.block, last, lo, hi, m, cull.margin)
+            if _window_bound_reference(cull.f_l_block[b], *args) >= threshold:
+                expected.append(b)
+    assert list(blocks[:count]) == expected
+    return count
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n_points=st.integers(1100, 12_000),
+    shift=st.floats(-12_500.0, 12_500.0),
+    window=st.one_of(st.integers(0, 100), st.integers(0, 3000)),
+    depth=st.floats(0.0, 0.6),
+)
+def test_candidate_blocks_equal_the_plain_rule(
+    seed: int, n_points: int, shift: float, window: int, depth: float
+) -> None:
+    """The blocks of a sliding chunk (compiled, the windows of whole (super-)blocks without
+    divisions) are those of the plain rule: super-block bound, then block bound ≥ threshold,
+    with the windows clipped at both bodies' ends."""
+    _check_candidate_blocks(seed, n_points, shift, window, depth)
+
+
+def test_candidate_blocks_comparison_is_not_vacuous() -> None:
+    """Fixed draws keeping some blocks but not all, inside the bodies and at their ends."""
+    n_b = -(-10_001 // 64)
+    for shift, depth in ((0.5, 0.3), (-9000.2, 0.3), (5000.5, 0.6)):
+        assert 0 < _check_candidate_blocks(3, 10_001, shift, 40, depth) < n_b

@@ -6,7 +6,10 @@ Table 1, δ > −reach and eq. 9 (``_filter._may_touch``: the tests of
 only the flagged points are decided exactly. Here the filter is checked against the exact test
 itself on points drawn around the eq. 9 boundary (upper slope s1 = −s^l + ε with ε set so that
 the contact centre falls near ±dx/2 from the point), for overlaps and for gaps within a law's
-reach: every point the exact test accepts must pass the filter.
+reach: every point the exact test accepts must pass the filter. The sliding pass widens its
+tests by a constant, that of an upper bound G ≥ |g| over all its closed points
+(``_filter.widenings`` at K·G, ``_filter._touches``): every check here holds for it too, at
+the tightest G = |g| and at larger ones, and fails with the widening removed.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from splinecontact.contact._filter import _may_touch
+from splinecontact.contact._filter import _may_touch, _touches, widenings
 from splinecontact.contact.geometry import sphere_contact
 from splinecontact.contact.path_kernel import _upper_sphere
 
@@ -53,6 +56,8 @@ def test_the_filter_keeps_every_point_the_exact_test_accepts(
     accepted = sphere_contact(g, k_l, k_u, m_x, m_z, -n_x, n_z, 0.5 * _DX, -reach)[0]
     kept = _may_touch(g, s1, s2, k_l, -n_x, n_z, _KAPPA_MAX, _DX, reach)
     assert kept or not accepted
+    for gap in (abs(g), 1e-3):
+        assert _constant(g, s1, s2, k_l, -n_x, n_z, reach, gap) or not accepted
 
 
 def test_the_filter_comparison_is_not_vacuous() -> None:
@@ -79,14 +84,26 @@ def _sphere_point(
     return s2, k_l, -s_l / norm_l, 1.0 / norm_l, _upper_sphere(s1, s2, _KAPPA_MAX)[0]
 
 
+def _constant(
+    g: float, s1: float, s2: float, k_l: float, n_x: float, n_z: float, reach: float, gap: float
+) -> bool:
+    """The filter with the constant widening of a gap bound ``gap`` (G ≥ |g|) [µm]."""
+    e_d, e_9 = widenings(_KAPPA_MAX * gap, _KAPPA_MAX, _DX, reach)
+    return bool(_touches(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, reach, e_d, e_9))
+
+
 def _check(
     g: float, s1: float, s2: float, k_l: float, n_x: float, n_z: float, reach: float
 ) -> bool:
-    """Assert that the filter keeps the point if the exact test accepts it; return the latter."""
+    """Assert that the filter keeps the point if the exact test accepts it, with its own and
+    with constant widenings (gap bounds |g|, 2|g| + reach, 10⁻³ µm); return the exact test."""
     k_u, m_x, m_z = _upper_sphere(s1, s2, _KAPPA_MAX)
     accepted = sphere_contact(g, k_l, k_u, m_x, m_z, n_x, n_z, 0.5 * _DX, -reach)[0]
     kept = _may_touch(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, reach)
     assert kept or not accepted, (g, s1, s2, k_l, n_x, n_z, reach)
+    for gap in (abs(g), 2.0 * abs(g) + reach, max(abs(g), 1e-3)):
+        kept = _constant(g, s1, s2, k_l, n_x, n_z, reach, gap)
+        assert kept or not accepted, (g, s1, s2, k_l, n_x, n_z, reach, gap)
     return bool(accepted)
 
 
@@ -142,7 +159,7 @@ def test_the_widening_keeps_few_points_the_exact_test_refuses() -> None:
     them refused by eq. 9, their contact centre in another cell) the filter keeps every point
     the exact test accepts and hardly any other."""
     rng = np.random.default_rng(5)
-    kept = accepted = 0
+    kept = accepted = kept_constant = 0
     total = 2000
     for _ in range(total):
         s_l = rng.uniform(-0.5, 0.5)
@@ -151,7 +168,10 @@ def test_the_widening_keeps_few_points_the_exact_test_refuses() -> None:
         g = rng.uniform(-1e-4, 0.0)
         accepted += _check(g, s1, s2, k_l, n_x, n_z, 0.0)
         kept += _may_touch(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, 0.0)
+        # the sliding pass's constant widening (the largest |g| drawn here)
+        kept_constant += _constant(g, s1, s2, k_l, n_x, n_z, 0.0, 1e-4)
     assert 0.2 * total < accepted <= kept <= accepted + 2 < 0.8 * total
+    assert kept <= kept_constant <= accepted + 2
 
 
 def _edge(accepts: Callable[[float], bool], inside: float, outside: float) -> float:
@@ -231,3 +251,25 @@ def test_the_filter_keeps_the_points_accepted_by_the_last_ulp() -> None:
     assert len(cases) >= 80
     for g, s1, s2, k_l, n_x, n_z, reach in cases:
         assert _check(g, s1, s2, k_l, n_x, n_z, reach)
+
+
+def test_the_constant_widening_is_needed_at_the_last_ulp() -> None:
+    """The constant-widening variant without its widening (E_δ = E₉ = 0) drops some of the
+    points accepted by the last ulp: the checks above would catch a missing widening."""
+    dropped = 0
+    for g, s1, s2, k_l, n_x, n_z, reach in _edge_cases():
+        accepted = _accepts(s1, g, s2, k_l, n_x, n_z, reach)
+        bare = _touches(g, s1, s2, k_l, n_x, n_z, _KAPPA_MAX, _DX, reach, 0.0, 0.0)
+        dropped += accepted and not bare
+        assert _constant(g, s1, s2, k_l, n_x, n_z, reach, abs(g))
+    assert dropped > 0
+
+
+def test_the_widening_grows_with_the_gap_bound() -> None:
+    """E_δ and E₉ never decrease as the gap bound grows (so a bound G ≥ |g| widens at least
+    as much as |g| itself) and are positive at G = 0."""
+    gaps = np.sort(np.r_[0.0, 5e-324, np.geomspace(1e-300, 1e3, 400)])
+    for reach in (0.0, 1e-6, 1e-2):
+        widths = np.array([widenings(_KAPPA_MAX * gap, _KAPPA_MAX, _DX, reach) for gap in gaps])
+        assert np.all(np.diff(widths, axis=0) >= 0.0)
+        assert widths[0, 0] > 0.0 and widths[0, 1] > 0.0

@@ -2,7 +2,9 @@
 
 The two bodies on the lower grid (:class:`Surfaces`) and the block maxima (:class:`Culling`)
 with which :func:`candidate_bounds` finds, in O(n/1024) plus the blocks near contact, the points
-whose rigid gap can close at a tangential shift within a window and a normal displacement.
+whose rigid gap can close at a tangential shift within a window and a normal displacement; the
+vector pass that flags a sliding step's points (:func:`sliding_flags`, the runs of
+:mod:`._sliding`).
 """
 
 from __future__ import annotations
@@ -14,22 +16,19 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._filter import _may_touch
+from ._filter import _touches, widenings
 
 __all__ = [
     "SPHERE_BLOCK",
     "Culling",
     "Surfaces",
     "block_max",
-    "candidate_blocks",
     "candidate_bounds",
     "fill_spheres",
     "first_at_least",
     "interval_envelope",
-    "run_flags",
     "sliding_flags",
     "sphere_ready",
-    "step_runs",
 ]
 
 
@@ -264,7 +263,7 @@ def candidate_bounds(
     return count
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _run_flags(
     i0: int,
     k0: int,
@@ -282,6 +281,8 @@ def _run_flags(
     gamma_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    e_d: float,
+    e_9: float,
 ) -> int:  # pragma: no cover - compiled
     """:func:`sliding_flags` on a run of consecutive points i0 + p, knot intervals k0 + p.
 
@@ -289,17 +290,23 @@ def _run_flags(
     flag; contiguous, so that the loop runs on vector units. A point whose knot interval
     ⌊i0 + p − shift⌋ is not k0 + p, or which falls on a knot (t = 0, rounding), is flagged 2
     (evaluated again alone). The scalars are those of :class:`Surfaces` (not the record
-    itself: passing it to a function called per run costs more than the run's arithmetic).
-    ``values`` receives each point's gap g, S′ and S″ (read back for the points flagged 1).
+    itself). ``e_d``, ``e_9``: the filter's widenings (:func:`._filter.widenings`) at an upper
+    bound of |g| over the run's closed points, the same for every point. ``values`` receives
+    each point's gap g, S′ and S″ (read back for the points flagged 1). Inlined into the loop
+    over the runs (a call per run costs more than a short run's arithmetic).
     """
     inv_dx = 1.0 / dx
     g_out, s1_out, s2_out = values
     n_closed = 0
+    dk = float(k0 - i0)
     for p in range(flags.size):
-        xi = (i0 + p) - shift
-        k = math.floor(xi)
-        t = xi - k
-        same = (k == k0 + p) & (t != 0.0)
+        # ⌊ξ⌋ and the test ⌊ξ⌋ = k0 + p in floating point (whole numbers, exact; t is the
+        # same as with the integer ⌊ξ⌋), with no conversion to and from integers
+        ip = float(i0 + p)
+        xi = ip - shift
+        kf = np.floor(xi)
+        t = xi - kf
+        same = (kf == ip + dk) & (t != 0.0)
         w = 1.0 - t
         fk = f_u[p]
         fk1 = f_u[p + 1]
@@ -314,7 +321,9 @@ def _run_flags(
         s2_out[p] = s2
         closed = same & (not g > reach)
         n_closed += closed
-        keep = closed & _may_touch(g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach)
+        keep = closed & _touches(
+            g, s1, s2, kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach, e_d, e_9
+        )
         flags[p] = np.uint8(keep) | (np.uint8(not same) << np.uint8(1))
     return n_closed
 
@@ -335,6 +344,8 @@ def _knot_flags(
     curv_u: NDArray[np.float64],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    e_d: float,
+    e_9: float,
 ) -> int:  # pragma: no cover - compiled
     """:func:`_run_flags` at a whole-number shift: every point on a knot (the fitted values)."""
     g_out, s1_out, s2_out = values
@@ -347,11 +358,48 @@ def _knot_flags(
         s2_out[p] = curv_u[p]
         closed = not g > reach
         n_closed += closed
-        keep = closed & _may_touch(
-            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach
+        keep = closed & _touches(
+            g, s1, curv_u[p], kappa_l[p], nl_x[p], nl_z[p], kappa_max, dx, reach, e_d, e_9
         )
         flags[p] = np.uint8(keep)
     return n_closed
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _gap_widening(
+    surf: Surfaces, top: float, d: float, reach: float
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The filter's widenings (E_δ, E₉) for every closed point whose f^l + f^u(ξ) ≤ ``top``.
+
+    Such a point's gap g = C − (f^u + f^l) − δ_N (as rounded) lies in
+    [C − δ_N − top, reach]: |g| ≤ G = max(reach, top − C + δ_N), enlarged by 10⁻¹² of the
+    magnitudes (far above the rounding of g and of G). :func:`._filter.widenings` at K·G is
+    then at least that at the point's own K·|g|: the pass refuses no point that
+    :func:`._filter._may_touch` keeps. ``top`` = −∞ (no point): G = reach.
+    """
+    gap = reach
+    if top > -np.inf:
+        c = surf.placement
+        slack = 1e-12 * (abs(top) + abs(c) + abs(d) + reach)
+        gap = max(reach, ((top - c) + d) + slack)
+    return widenings(surf.kappa_max * gap, surf.kappa_max, surf.dx, reach)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _run_span(
+    surf: Surfaces, i0: int, length: int, shift: float, flags: NDArray[np.uint8], o: int
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    """The part p_lo … p_hi − 1 of the run i0 … i0 + length − 1 inside the upper body (its
+    points' knot intervals k0 + p exist); the others flagged 2 (``flags[o + p]``)."""
+    top = surf.f_u.size - 2  # last knot interval
+    k0 = math.floor(i0 - shift)
+    p_lo = min(max(0, -k0), length)
+    p_hi = max(min(length, top - k0 + 1), p_lo)
+    for p in range(o, o + p_lo):
+        flags[p] = 2
+    for p in range(o + p_hi, o + length):
+        flags[p] = 2
+    return p_lo, p_hi, k0
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -362,21 +410,18 @@ def _flag_run(
     shift: float,
     d: float,
     reach: float,
+    widening: tuple[float, float],
     flags: NDArray[np.uint8],
     values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    o: int,
 ) -> int:  # pragma: no cover - compiled
     """Flags of the points i0 … i0 + length − 1 (:func:`sliding_flags`); returns the closed.
 
-    ``values`` (three arrays aligned with ``flags``) receives g, S′ and S″ of the points
-    inside the upper body (those not flagged 2 for it)."""
-    top = surf.f_u.size - 2  # last knot interval
-    k0 = math.floor(i0 - shift)
-    p_lo = min(max(0, -k0), length)
-    p_hi = max(min(length, top - k0 + 1), p_lo)
-    for p in range(p_lo):
-        flags[p] = 2
-    for p in range(p_hi, length):
-        flags[p] = 2
+    The run's flags are ``flags[o : o + length]``; ``values`` (three arrays aligned with
+    ``flags``) receives g, S′ and S″ of the points inside the upper body (those not flagged 2
+    for it); ``widening``: the filter's (E_δ, E₉) (:func:`._filter.widenings`) at an upper
+    bound of |g| over the closed points. (Each array is sliced once: a slice costs.)"""
+    p_lo, p_hi, k0 = _run_span(surf, i0, length, shift, flags, o)
     if p_hi == p_lo:
         return 0
     a = i0 + p_lo
@@ -386,18 +431,20 @@ def _flag_run(
         if not surf.sphere_done[blk]:  # (a call costs more than the test)
             fill_spheres(surf, a, e)
             break
-    part = (values[0][p_lo:p_hi], values[1][p_lo:p_hi], values[2][p_lo:p_hi])
+    q0 = o + p_lo
+    q1 = o + p_hi
+    part = (values[0][q0:q1], values[1][q0:q1], values[2][q0:q1])
     if shift == math.floor(shift):
         # i − shift is exact: every point is on knot k0 + p
         return _knot_flags(
             d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e], surf.kappa_l[a:e],
             surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a], surf.slope_u[b : b + e - a],
-            surf.curv_u[b : b + e - a], flags[p_lo:p_hi], part,
+            surf.curv_u[b : b + e - a], flags[q0:q1], part, widening[0], widening[1],
         )  # fmt: skip
     return _run_flags(
         a, b, shift, d, reach, surf.placement, surf.kappa_max, surf.dx, surf.f_l[a:e],
         surf.kappa_l[a:e], surf.nl_x[a:e], surf.nl_z[a:e], surf.f_u[b : b + e - a + 1],
-        surf.gamma_u[b : b + e - a + 1], flags[p_lo:p_hi], part,
+        surf.gamma_u[b : b + e - a + 1], flags[q0:q1], part, widening[0], widening[1],
     )  # fmt: skip
 
 
@@ -420,13 +467,18 @@ def sliding_flags(
     ξ = i − shift (the same arithmetic, operation for operation, as the kernel's scalar
     evaluation, so the values are the same to the bit; written to ``values``, three arrays
     aligned with ``flags``: g, S′, S″), the gap g, and the conservative filter
-    :func:`._filter._may_touch`. ``flags[j]`` is 1 for the candidates that are inside the
+    :func:`._filter._may_touch` (with the widenings of the largest |g| the bounds allow,
+    :func:`_gap_widening`). ``flags[j]`` is 1 for the candidates that are inside the
     upper body, have ``bound[j] ≥ threshold`` and g ≤ reach, and pass the filter (a superset
     of those the exact tests accept), 2 for the few the pass could not decide (to be evaluated
     alone), 0 for the rest. Returns the number of closed candidates (inside, bound ≥ threshold,
     g ≤ reach) among those flagged 0 or 1.
     """
     m = cand.size
+    top = -np.inf
+    for j in range(m):
+        top = max(top, bound[j])
+    widening = _gap_widening(surf, top, d, reach)
     n_closed = 0
     j0 = 0
     while j0 < m:
@@ -434,124 +486,8 @@ def sliding_flags(
         j1 = j0 + 1
         while j1 < m and cand[j1] == i0 + (j1 - j0):
             j1 += 1
-        n_closed += _flag_run(
-            surf, i0, j1 - j0, shift, d, reach, flags[j0:j1],
-            (values[0][j0:j1], values[1][j0:j1], values[2][j0:j1]),
-        )  # fmt: skip
+        n_closed += _flag_run(surf, i0, j1 - j0, shift, d, reach, widening, flags, values, j0)
         j0 = j1
-    return n_closed
-
-
-@numba.njit(cache=True, nogil=True)
-def candidate_blocks(
-    surf: Surfaces,
-    cull: Culling,
-    offset_lo: int,
-    offset_hi: int,
-    threshold: float,
-    out_blocks: NDArray[np.int64],
-) -> int:  # pragma: no cover - compiled
-    """Blocks (of ``cull.block`` points, grid order) whose rigid gap can close (rough upper body).
-
-    The block and super-block culling of :func:`candidate_bounds` (knot intervals
-    k ∈ [i + offset_lo, i + offset_hi]), without the point level: a block is kept when the
-    maximum of f^l over it plus the largest interval envelope over its window is ≥
-    ``threshold``. Returns how many were written to ``out_blocks``.
-    """
-    n = surf.f_l.size
-    m = cull.envelope.size
-    per_super = cull.per_super
-    nb = cull.f_l_block.size
-    count = 0
-    for sb in range(cull.f_l_super.size):
-        if _super_bound(cull, n, m, sb, offset_lo, offset_hi) < threshold:
-            continue
-        for b in range(sb * per_super, min(nb, (sb + 1) * per_super)):
-            if _block_bound(cull, n, m, b, offset_lo, offset_hi) >= threshold:
-                out_blocks[count] = b
-                count += 1
-    return count
-
-
-@numba.njit(cache=True, nogil=True)
-def step_runs(
-    surf: Surfaces,
-    cull: Culling,
-    blocks: NDArray[np.int64],
-    shift: float,
-    threshold: float,
-    run_start: NDArray[np.int64],
-    run_len: NDArray[np.int64],
-) -> int:  # pragma: no cover - compiled
-    """Runs of consecutive points whose rigid gap can close at one shift (grid order).
-
-    Within the given ``blocks`` (which must hold every block that can touch at this shift,
-    :func:`candidate_blocks`), each sub-block of ``cull.sub`` points i0 … i1 is kept when the
-    maximum of f^l over it plus the largest interval envelope on (at least) the knot intervals
-    ⌊i0 − shift⌋ − 1 … ⌊i1 − shift⌋ + 1 (those its points evaluate, with one interval to spare
-    for rounding) is ≥ ``threshold``; kept neighbours are merged. The intervals are taken by
-    whole sub-blocks of the envelope, the same offset for every sub-block. Returns the number
-    of runs (start point, length) written.
-    """
-    n = surf.f_l.size
-    f_l_sub = cull.f_l_sub
-    envelope_sub = cull.envelope_sub
-    sub = cull.sub
-    per_block = cull.block // sub
-    margin = cull.margin
-    n_sub = f_l_sub.size
-    top = envelope_sub.size - 1
-    # ⌊i − shift⌋ (as rounded) is i + c or i + c + 1: sub-block q's points (16q … 16q + 15)
-    # see the knot intervals 16q + c − 1 … 16q + 15 + c + 2, in the envelope's sub-blocks
-    # q + a … q + b whatever q (a window at least as wide as the one stated above)
-    c = math.floor(-shift)
-    a = (c - 1) // sub
-    b = (sub + 1 + c) // sub
-    n_runs = 0
-    end = -1  # one past the last kept point
-    for blk in blocks:
-        for q in range(blk * per_block, min(n_sub, (blk + 1) * per_block)):
-            lo = max(0, q + a)
-            hi = min(top, q + b)
-            if hi < lo or f_l_sub[q] + _window_max(envelope_sub, lo, hi) + margin < threshold:
-                continue
-            i0 = q * sub
-            if i0 == end:
-                run_len[n_runs - 1] += sub
-            else:
-                run_start[n_runs] = i0
-                run_len[n_runs] = sub
-                n_runs += 1
-            end = i0 + sub
-    if end > n:  # the last sub-block is short
-        run_len[n_runs - 1] -= end - n
-    return n_runs
-
-
-@numba.njit(cache=True, nogil=True)
-def run_flags(
-    surf: Surfaces,
-    run_start: NDArray[np.int64],
-    run_len: NDArray[np.int64],
-    n_runs: int,
-    shift: float,
-    d: float,
-    reach: float,
-    flags: NDArray[np.uint8],
-    values: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
-) -> int:  # pragma: no cover - compiled
-    """:func:`sliding_flags` on the points of runs (``flags`` in run order, points in order);
-    ``values`` (aligned with ``flags``) receives g, S′, S″ of the points inside the upper
-    body, the same values as the scalar evaluation's (:func:`sliding_flags`)."""
-    n_closed = 0
-    o = 0
-    for r in range(n_runs):
-        length = run_len[r]
-        run = (values[0][o : o + length], values[1][o : o + length], values[2][o : o + length])
-        n_closed += _flag_run(
-            surf, run_start[r], length, shift, d, reach, flags[o : o + length], run
-        )
-        o += length
     return n_closed
 
 

@@ -15,13 +15,75 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["FILTER_SLACK", "flagged_positions"]
+__all__ = ["FILTER_SLACK", "flagged_positions", "widenings"]
 
 
 #: Relative width of the filter's widened tests (:func:`_may_touch`), far above the rounding
 #: error of both its arithmetic and that of :func:`.geometry.sphere_contact` (< 10⁻¹³, a few
 #: hundred units in the last place of float64, of the same magnitudes).
 FILTER_SLACK = 1e-12
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
+def widenings(
+    q: float, kappa_max: float, dx: float, reach: float
+) -> tuple[float, float]:  # pragma: no cover - compiled
+    """The widenings E_δ and E₉ of :func:`_may_touch` at q = K·|g| (K = ``kappa_max``) [1].
+
+    Polynomials in q with non-negative coefficients, evaluated with non-negative operands:
+    rounding is monotonic, so a larger q never gives a smaller widening. With q computed from
+    an upper bound G ≥ |g| (fl(K·G) ≥ fl(K·|g|)), the widened tests of :func:`_touches` refuse
+    no more points than those of :func:`_may_touch`: the filter stays conservative.
+    """
+    big = kappa_max
+    e_d = FILTER_SLACK * ((4.0 + 5.0 * reach * big) + q * ((4.0 + reach * big) + q))
+    dk2 = dx * big * big
+    e_9 = FILTER_SLACK * (
+        (28.0 * big + 15.0 * dk2) + q * ((12.0 * big + 8.0 * dk2) + q * (2.0 * big + dk2))
+    )
+    return e_d, e_9
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
+def _touches(
+    g: float,
+    s1: float,
+    s2: float,
+    k_l: float,
+    n_x: float,
+    n_z: float,
+    kappa_max: float,
+    dx: float,
+    reach: float,
+    e_d: float,
+    e_9: float,
+) -> bool:  # pragma: no cover - compiled
+    """:func:`_may_touch` with given widenings E_δ, E₉ (:func:`widenings` at q ≥ K·|g|).
+
+    The sliding pass gives the widenings of an upper bound of |g| over all its closed points,
+    the same for every point (:func:`._sliding.run_flags`); :func:`_may_touch` those of the
+    point's own |g|.
+    """
+    r = 1.0 / math.sqrt(1.0 + s1 * s1)
+    k_u = min(max(-s2 * (r * (r * r)), -kappa_max), kappa_max)
+    m_x = s1 * r
+    k_sum = k_l + k_u
+    k_prod = k_u * k_l
+    a = k_l * r + k_u * n_z
+    y_x = k_l * m_x + k_u * n_x
+    y_z = k_prod * g + a
+    y_norm = math.sqrt(y_x * y_x + y_z * y_z)
+    dmx = m_x - n_x
+    dmz = r - n_z
+    num = dmx * dmx + dmz * dmz - g * (y_z + a)
+    den = y_norm + k_sum
+    z = 2.0 * dmx * den + num * (k_u * n_x - k_l * m_x)
+    refused = (
+        (k_sum < -FILTER_SLACK * 2.0 * kappa_max)
+        | (num + reach * den < -e_d)
+        | (abs(z) > dx * y_norm * den + e_9)
+    )
+    return not refused
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
@@ -65,34 +127,8 @@ def _may_touch(
     decides: the point is kept). A NaN keeps the point (each test is written as "refused when
     clearly outside").
     """
-    r = 1.0 / math.sqrt(1.0 + s1 * s1)
-    k_u = min(max(-s2 * (r * (r * r)), -kappa_max), kappa_max)
-    m_x = s1 * r
-    k_sum = k_l + k_u
-    k_prod = k_u * k_l
-    a = k_l * r + k_u * n_z
-    y_x = k_l * m_x + k_u * n_x
-    y_z = k_prod * g + a
-    y_norm = math.sqrt(y_x * y_x + y_z * y_z)
-    dmx = m_x - n_x
-    dmz = r - n_z
-    num = dmx * dmx + dmz * dmz - g * (y_z + a)
-    den = y_norm + k_sum
-    z = 2.0 * dmx * den + num * (k_u * n_x - k_l * m_x)
-    # the widenings (docstring), polynomials in q = K|g| (their coefficients are loop-invariant)
-    big = kappa_max
-    q = big * abs(g)
-    e_d = FILTER_SLACK * ((4.0 + 5.0 * reach * big) + q * ((4.0 + reach * big) + q))
-    dk2 = dx * big * big
-    e_9 = FILTER_SLACK * (
-        (28.0 * big + 15.0 * dk2) + q * ((12.0 * big + 8.0 * dk2) + q * (2.0 * big + dk2))
-    )
-    refused = (
-        (k_sum < -FILTER_SLACK * 2.0 * big)
-        | (num + reach * den < -e_d)
-        | (abs(z) > dx * y_norm * den + e_9)
-    )
-    return not refused
+    e_d, e_9 = widenings(kappa_max * abs(g), kappa_max, dx, reach)
+    return _touches(g, s1, s2, k_l, n_x, n_z, kappa_max, dx, reach, e_d, e_9)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -4,7 +4,7 @@
 A fixed-shift segment (no tangential motion) visits one candidate list sorted by a bound,
 with the upper body evaluated at the candidates once (:func:`.path_kernel.path_step`). A
 sliding step of a rough upper body (:func:`slide_step`) visits only the runs of sub-blocks
-whose bound says they may touch at that shift (:func:`._culling.step_runs`, within a block
+whose bound says they may touch at that shift (:func:`._sliding.step_runs`, within a block
 list rebuilt every ``chunk_cells`` of travel), flags them in one vector pass and decides the
 few flagged points exactly; its results are the same, to the bit, as the scalar evaluation
 of every point (``tests/test_path_culling.py``).
@@ -18,8 +18,9 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ._culling import Culling, Surfaces, candidate_blocks, candidate_bounds, run_flags, step_runs
+from ._culling import Culling, Surfaces, candidate_bounds
 from ._decide import flag_list
+from ._sliding import candidate_blocks, run_flags, step_runs
 from .laws import Material
 from .path_kernel import (
     Scratch,
@@ -47,6 +48,7 @@ def slide_step(
     run_start: NDArray[np.int64],
     run_len: NDArray[np.int64],
     n_runs: int,
+    top: float,
     material: Material,
     migrate_cells: int,
     springs: Springs,
@@ -68,7 +70,7 @@ def slide_step(
     shift = u / surf.dx
     flags = scratch.cl_flag
     values = (scratch.cl_g, scratch.cl_s1, scratch.cl_s2)
-    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, flags, values)
+    n_closed = run_flags(surf, run_start, run_len, n_runs, shift, d, reach, top, flags, values)
     total = 0
     for r in range(n_runs):
         total += run_len[r]
@@ -199,12 +201,12 @@ def run_steps(
         dd = d - d_cur
         window = migrate_cells_of(du, dd, dx, surf.f_l.size)
         if sliding:
-            n_runs = step_runs(
+            n_runs, top = step_runs(
                 surf, cull, blocks[:count], u / dx, surf.placement - d - material.reach,
                 run_start, run_len,
             )  # fmt: skip
             sums = slide_step(
-                u, d, du, dd, surf, run_start, run_len, n_runs, material, window, springs,
+                u, d, du, dd, surf, run_start, run_len, n_runs, top, material, window, springs,
                 scratch,
             )  # fmt: skip
         else:

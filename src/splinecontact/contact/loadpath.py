@@ -47,13 +47,13 @@ FORCE_RTOL = 1e-9
 _BLOCK = 64
 
 #: Sub-block size [points] of a sliding step's candidate runs (divides _BLOCK).
-_SUB = 16
+_SUB = 8
 
 #: Blocks per super-block of the candidate culling.
 _PER_SUPER = 16
 
 #: Tangential travel [grid spacings] served by one candidate list.
-_CHUNK_CELLS = 48
+_CHUNK_CELLS = 96
 
 
 @dataclass(frozen=True, eq=False)
