@@ -20,6 +20,11 @@ if TYPE_CHECKING:
 
 __all__ = ["migrate"]
 
+#: Beyond every cell (a list that is used up reads as this).
+_END = 1 << 62
+#: The low half of a packed (previous, new) contact position.
+_LOW = (1 << 32) - 1
+
 
 @numba.njit(cache=True, nogil=True)
 def migrate(
@@ -30,101 +35,262 @@ def migrate(
     The same cell continues its contact. Every other accepted contact may continue a vanished
     (not accepted again in its own cell) previous contact within ``migrate_cells`` cells; the
     pairs are assigned greedily by increasing distance between the previous and the new centre
-    (ties: in the order the pairs are generated; independent of the visiting order, hence
-    mirror symmetric).
+    (ties: in the order the pairs are generated — contacts in their order, each one's
+    candidates by distance in cells, the left one first; independent of the visiting order,
+    hence mirror symmetric).
 
-    With the accepted contacts in grid order (a sliding step), the searches are merged sweeps
-    and the greedy assignment runs per group of contacts that share a candidate (a group
-    claims only its own, so the result is that of one global pass); a contact alone in its
-    group takes its nearest candidate without sorting.
+    With the accepted contacts in grid order (a sliding step) :func:`_migrate_sorted` merges
+    the two sorted lists; otherwise :func:`_migrate_any` bisects and assigns in one global
+    pass. ``reuse``: the work arrays are the free ``cl_*`` columns of ``scratch``.
     """
-    claimed = springs.claimed
     n_old = springs.n_committed[0]
-    if reuse and n_old <= scratch.cl_i.size:  # (n_c ≤ that size: the accepted points)
-        vanished = scratch.cl_i
-        slot = scratch.cl_kl.view(np.int64)
+    if reuse and n_old < scratch.cl_i.size:  # (n_c ≤ that size: the accepted points)
+        first = scratch.cl_i
+        second = scratch.cl_kl.view(np.int64)
+        third = scratch.cl_nx.view(np.int64)
         pair_c = scratch.cl_g.view(np.int64)
         pair_q = scratch.cl_s1.view(np.int64)
         pair_d = scratch.cl_s2
-        order = scratch.cl_nx.view(np.int64)
     else:
-        vanished = np.empty(n_old, dtype=np.int64)
-        slot = np.empty(n_old, dtype=np.int64)
+        first = np.empty(n_old + n_c + 1, dtype=np.int64)
+        second = np.empty(n_old + n_c + 1, dtype=np.int64)
+        third = np.empty(n_old + n_c + 1, dtype=np.int64)
         pair_c = np.empty(4 * n_c + 16, dtype=np.int64)
         pair_q = np.empty(4 * n_c + 16, dtype=np.int64)
         pair_d = np.empty(4 * n_c + 16)
-        order = np.empty(_SMALL, dtype=np.int64)
+    cells = springs.cells
+    old_x = springs.xc
+    claimed = springs.claimed
     c_idx = scratch.idx
+    c_x = scratch.xc
     c_src = scratch.src
-    cells = springs.cells[:n_old]  # ascending
     ascending = True
     for c in range(1, n_c):
         if c_idx[c] < c_idx[c - 1]:
             ascending = False
             break
-    p = 0
-    for c in range(n_c):
+    if not ascending:
+        _migrate_any(n_c, migrate_cells, springs, scratch, first, second, pair_c, pair_q, pair_d)
+        return
+    n_left = _migrate_sorted(
+        n_old, n_c, migrate_cells, cells, old_x, claimed, c_idx, c_x, c_src,
+        first, second, third, pair_c, pair_q, pair_d,
+    )  # fmt: skip
+    for k in range(n_left):  # clusters with more pairs than the arrays hold
+        while not _settle_cluster(
+            first[k] >> 32, second[k] >> 32, first[k] & _LOW, second[k] & _LOW, migrate_cells,
+            cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
+        ):  # fmt: skip
+            pair_c = np.empty(2 * pair_d.size, dtype=np.int64)
+            pair_q = np.empty(2 * pair_d.size, dtype=np.int64)
+            pair_d = np.empty(2 * pair_d.size)
+
+
+@numba.njit(cache=True, nogil=True)
+def _migrate_sorted(
+    n_old: int,
+    n_c: int,
+    window: int,
+    cells: NDArray[np.int64],
+    old_x: NDArray[np.float64],
+    claimed: NDArray[np.bool_],
+    c_idx: NDArray[np.int64],
+    c_x: NDArray[np.float64],
+    c_src: NDArray[np.int64],
+    starts: NDArray[np.int64],
+    ends: NDArray[np.int64],
+    ones: NDArray[np.int64],
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+) -> int:  # pragma: no cover - compiled
+    """:func:`migrate` with the accepted contacts in grid order (no allocation).
+
+    One branch-free merge of the previous cells ``cells[:n_old]`` and the new ones
+    ``c_idx[:n_c]`` (both ascending) sets the same-cell continuations and cuts the merged
+    sequence into clusters wherever two consecutive cells lie more than ``window`` apart: no
+    pair crosses a cut, so the greedy pass runs per cluster with the result of one global
+    pass. In a cluster of one previous and one new contact, the new one continues the previous
+    one (in its cell or within the window); a cluster of one kind has no pair; the others (a
+    few contacts each) are settled by :func:`_settle_cluster`. Positions are packed as
+    (previous << 32) | new. Returns how many clusters had more pairs than the pair arrays
+    hold: they are left, unsettled, in ``starts`` and ``ends``.
+    """
+    if n_c == 0:
+        return 0
+    p = c = 0
+    open_p = open_c = 0  # where the open cluster starts
+    last = -_END  # the last cell taken
+    last_old = -_END  # the last previous cell taken
+    n_open = 0  # clusters listed for _settle_cluster
+    n_one = 0  # clusters of one previous and one new contact
+    while p < n_old and c < n_c:
+        a = cells[p]
+        b = c_idx[c]
+        take_old = a <= b
+        m = min(a, b)
+        cut = m - last > window
+        n_o = p - open_p
+        n_n = c - open_c
+        ones[n_one] = (open_p << 32) | open_c
+        n_one += cut & (n_o == 1) & (n_n == 1)
+        starts[n_open] = (open_p << 32) | open_c
+        ends[n_open] = (p << 32) | c
+        n_open += cut & (n_o > 0) & (n_n > 0) & (n_o + n_n > 2)
+        open_p = p if cut else open_p
+        open_c = c if cut else open_c
+        c_src[c] = p - 1 if last_old == b else -1  # (final when the new one is taken)
+        last_old = a if take_old else last_old
+        last = m
+        p += take_old
+        c += not take_old
+    # one list is used up: the open cluster takes what is left within reach, then closes
+    while p < n_old and cells[p] - last <= window:
+        last = cells[p]
+        p += 1
+    while c < n_c and c_idx[c] - last <= window:
+        c_src[c] = p - 1 if last_old == c_idx[c] else -1
+        last = c_idx[c]
+        c += 1
+    n_o = p - open_p
+    n_n = c - open_c
+    if n_o == 1 and n_n == 1:
+        c_src[open_c] = open_p
+    elif n_o > 0 and n_n > 0:
+        starts[n_open] = (open_p << 32) | open_c
+        ends[n_open] = (p << 32) | c
+        n_open += 1
+    for c in range(c, n_c):
         c_src[c] = -1
+    for k in range(n_one):
+        c_src[ones[k] & _LOW] = ones[k] >> 32
+    n_left = 0
+    for k in range(n_open):
+        if not _settle_cluster(
+            starts[k] >> 32, ends[k] >> 32, starts[k] & _LOW, ends[k] & _LOW, window,
+            cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
+        ):  # fmt: skip
+            starts[n_left] = starts[k]
+            ends[n_left] = ends[k]
+            n_left += 1
+    return n_left
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _settle_cluster(
+    p0: int,
+    p1: int,
+    c0: int,
+    c1: int,
+    window: int,
+    cells: NDArray[np.int64],
+    old_x: NDArray[np.float64],
+    claimed: NDArray[np.bool_],
+    c_idx: NDArray[np.int64],
+    c_x: NDArray[np.float64],
+    c_src: NDArray[np.int64],
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+) -> bool:  # pragma: no cover - compiled
+    """The greedy pass over the previous contacts p0 … p1 − 1 and the new ones c0 … c1 − 1.
+
+    The same-cell continuations are set (``c_src``); every other new contact's candidates
+    (the previous ones not continued, within ``window`` cells) are generated in order (by
+    distance in cells, the left one first) and the pairs assigned by :func:`_assign`. Returns
+    False, having changed nothing, if the pair arrays are too small.
+    """
+    for c in range(c0, c1):
+        if c_src[c] >= 0:
+            claimed[c_src[c]] = True
+    n_pairs = 0
+    right = p0
+    for c in range(c0, c1):
+        if c_src[c] >= 0:
+            continue
         i = c_idx[c]
-        if ascending:
-            while p < n_old and cells[p] < i:
-                p += 1
-        else:
-            p = first_at_least(cells, n_old, i)
-        if p < n_old and cells[p] == i:
+        x = c_x[c]
+        while right < p1 and cells[right] < i:
+            right += 1
+        if n_pairs + (p1 - p0) > pair_d.size:
+            for p in range(p0, p1):
+                claimed[p] = False
+            return False
+        left = right - 1
+        r = right
+        while True:
+            has_left = left >= p0 and i - cells[left] <= window
+            has_right = r < p1 and cells[r] - i <= window
+            if has_left and (not has_right or i - cells[left] <= cells[r] - i):
+                q = left
+                left -= 1
+            elif has_right:
+                q = r
+                r += 1
+            else:
+                break
+            if not claimed[q]:
+                pair_c[n_pairs] = c
+                pair_q[n_pairs] = q
+                pair_d[n_pairs] = abs(old_x[q] - x)
+                n_pairs += 1
+    _assign(n_pairs, pair_c, pair_q, pair_d, c_src, claimed)
+    for p in range(p0, p1):
+        claimed[p] = False
+    return True
+
+
+@numba.njit(cache=True, nogil=True)
+def _migrate_any(
+    n_c: int,
+    window: int,
+    springs: Springs,
+    scratch: Scratch,
+    vanished: NDArray[np.int64],
+    slot: NDArray[np.int64],
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+) -> None:  # pragma: no cover - compiled
+    """:func:`migrate` with the accepted contacts in any order: bisections, one global pass.
+
+    The candidates of a contact are found by bisection in the vanished contacts (in grid
+    order) instead of visiting its 2·window neighbours, and generated in the same order.
+    """
+    claimed = springs.claimed
+    n_old = springs.n_committed[0]
+    cells = springs.cells
+    c_idx = scratch.idx
+    c_x = scratch.xc
+    c_src = scratch.src
+    for c in range(n_c):
+        p = first_at_least(cells, n_old, c_idx[c])
+        c_src[c] = -1
+        if p < n_old and cells[p] == c_idx[c]:
             c_src[c] = p
             claimed[p] = True
-    # The vanished previous contacts (not continued in their own cell), in grid order: the
-    # candidates of a contact are found by search instead of visiting its 2·migrate_cells
-    # neighbours, and generated in the same order (by |q − i|, then the left one first).
     n_v = 0
     for p in range(n_old):
         if not claimed[p]:
             vanished[n_v] = cells[p]
             slot[n_v] = p
             n_v += 1
-    vanished = vanished[:n_v]
-    # One sweep generates each contact's candidate pairs and assigns each group (contacts
-    # whose candidate ranges chain; one group unless ascending) once the next contact's
-    # candidates lie beyond it.
-    capacity = pair_d.size
     n_pairs = 0
-    group = 0  # first pair of the open group
-    single = True  # the open group holds one contact
-    reach_end = -1  # one past the last vanished index the open group reaches
-    lo = hi = mid = 0
     for c in range(n_c):
         if c_src[c] >= 0:
             continue
         i = c_idx[c]
-        if ascending:
-            while lo < n_v and vanished[lo] < i - migrate_cells:
-                lo += 1
-            while mid < n_v and vanished[mid] < i:
-                mid += 1
-            while hi < n_v and vanished[hi] <= i + migrate_cells:
-                hi += 1
-        else:
-            lo = first_at_least(vanished, n_v, i - migrate_cells)
-            mid = first_at_least(vanished, n_v, i)
-            hi = first_at_least(vanished, n_v, i + migrate_cells + 1)
-        if hi == lo:
-            continue  # no candidate
-        if n_pairs == 0 or (ascending and lo >= reach_end):
-            _assign(group, n_pairs, single, pair_c, pair_q, pair_d, order, c_src, claimed)
-            group = n_pairs
-            single = True
-        else:
-            single = False
-        if n_pairs + (hi - lo) > capacity:
-            capacity = 2 * (n_pairs + (hi - lo))
+        x = c_x[c]
+        lo = first_at_least(vanished, n_v, i - window)
+        hi = first_at_least(vanished, n_v, i + window + 1)
+        if n_pairs + hi - lo > pair_d.size:
+            capacity = 2 * (n_pairs + hi - lo)
             pair_c = _grown(pair_c, n_pairs, capacity)
             pair_q = _grown(pair_q, n_pairs, capacity)
             pair_d = _grown(pair_d, n_pairs, capacity)
-        # the candidates by |q − i|, the left one first on a tie (vanished[mid − 1] < i ≤ …)
-        left = mid - 1
-        right = mid
-        x = scratch.xc[c]
+        # by |q − i|, the left one first on a tie (vanished[right − 1] < i ≤ vanished[right])
+        right = first_at_least(vanished, n_v, i)
+        left = right - 1
         while True:
             has_left = left >= lo
             has_right = right < hi
@@ -140,63 +306,78 @@ def migrate(
             pair_q[n_pairs] = q
             pair_d[n_pairs] = abs(springs.xc[q] - x)
             n_pairs += 1
-        reach_end = max(reach_end, hi)
-    _assign(group, n_pairs, single, pair_c, pair_q, pair_d, order, c_src, claimed)
+    _assign(n_pairs, pair_c, pair_q, pair_d, c_src, claimed)
     for c in range(n_c):
         if c_src[c] >= 0:
             claimed[c_src[c]] = False
 
 
-#: Groups of at most this many pairs are ordered by insertion (no allocation).
+#: Up to this many pairs are ordered by insertion (in place, no allocation).
 _SMALL = 32
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
 def _assign(
-    g0: int,
-    g1: int,
-    single: bool,
+    n_pairs: int,
     pair_c: NDArray[np.int64],
     pair_q: NDArray[np.int64],
     pair_d: NDArray[np.float64],
-    order: NDArray[np.int64],
     c_src: NDArray[np.int64],
     claimed: NDArray[np.bool_],
 ) -> None:  # pragma: no cover - compiled
-    """Assign the pairs g0 … g1 − 1 of one group greedily by increasing distance.
+    """Assign the pairs greedily by increasing distance (``claimed``: the taken candidates).
 
-    The pairs are taken in the stable order of their distances (``order``: scratch of at
-    least ``_SMALL`` entries; a larger group is ordered by numpy's stable sort, the same).
+    The pairs are taken in the stable order of their distances (a few are reordered in place
+    by insertion, more by numpy's stable sort: the same order, a NaN last).
     """
-    m = g1 - g0
-    if m == 0:
+    if n_pairs > _SMALL:
+        _assign_many(n_pairs, pair_c, pair_q, pair_d, c_src, claimed)
         return
-    if single:
-        # one contact: the first nearest candidate (all are unclaimed)
-        best = g0
-        for p in range(g0 + 1, g1):
-            if pair_d[p] < pair_d[best]:
-                best = p
-        c_src[pair_c[best]] = pair_q[best]
-        claimed[pair_q[best]] = True
-        return
-    if m > min(_SMALL, order.size):
-        ranks = np.argsort(pair_d[g0:g1], kind="mergesort")
-    else:
-        ranks = order[:m]
-        for a in range(m):  # stable insertion (a NaN last, as numpy's sort)
-            key = pair_d[g0 + a]
-            b = a
-            while b > 0 and _after(pair_d[g0 + ranks[b - 1]], key):
-                ranks[b] = ranks[b - 1]
-                b -= 1
-            ranks[b] = a
-    for o in ranks:
-        c = pair_c[g0 + o]
-        q = pair_q[g0 + o]
-        if c_src[c] < 0 and not claimed[q]:
-            c_src[c] = q
-            claimed[q] = True
+    for a in range(1, n_pairs):
+        key = pair_d[a]
+        c = pair_c[a]
+        q = pair_q[a]
+        b = a
+        while b > 0 and _after(pair_d[b - 1], key):
+            pair_d[b] = pair_d[b - 1]
+            pair_c[b] = pair_c[b - 1]
+            pair_q[b] = pair_q[b - 1]
+            b -= 1
+        pair_d[b] = key
+        pair_c[b] = c
+        pair_q[b] = q
+    for o in range(n_pairs):
+        _take(o, pair_c, pair_q, c_src, claimed)
+
+
+@numba.njit(cache=True, nogil=True)
+def _assign_many(
+    n_pairs: int,
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+    c_src: NDArray[np.int64],
+    claimed: NDArray[np.bool_],
+) -> None:  # pragma: no cover - compiled
+    """:func:`_assign` of many pairs: in the order of numpy's stable sort of the distances."""
+    for o in np.argsort(pair_d[:n_pairs], kind="mergesort"):
+        _take(o, pair_c, pair_q, c_src, claimed)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _take(
+    o: int,
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    c_src: NDArray[np.int64],
+    claimed: NDArray[np.bool_],
+) -> None:  # pragma: no cover - compiled
+    """Pair o is assigned unless its contact or its candidate already is."""
+    c = pair_c[o]
+    q = pair_q[o]
+    if c_src[c] < 0 and not claimed[q]:
+        c_src[c] = q
+        claimed[q] = True
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
