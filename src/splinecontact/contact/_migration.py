@@ -51,6 +51,7 @@ def migrate(
         pair_c = scratch.cl_g.view(np.int64)
         pair_q = scratch.cl_s1.view(np.int64)
         pair_d = scratch.cl_s2
+        pair_g = scratch.cl_nz.view(np.int64)
     else:
         first = np.empty(n_old + n_c + 1, dtype=np.int64)
         second = np.empty(n_old + n_c + 1, dtype=np.int64)
@@ -58,6 +59,7 @@ def migrate(
         pair_c = np.empty(4 * n_c + 16, dtype=np.int64)
         pair_q = np.empty(4 * n_c + 16, dtype=np.int64)
         pair_d = np.empty(4 * n_c + 16)
+        pair_g = np.empty(4 * n_c + 16, dtype=np.int64)
     cells = springs.cells
     old_x = springs.xc
     claimed = springs.claimed
@@ -74,7 +76,7 @@ def migrate(
         return
     n_left = _migrate_sorted(
         n_old, n_c, migrate_cells, cells, old_x, claimed, c_idx, c_x, c_src,
-        first, second, third, pair_c, pair_q, pair_d,
+        first, second, third, pair_c, pair_q, pair_d, pair_g,
     )  # fmt: skip
     for k in range(n_left):  # clusters with more pairs than the arrays hold
         while not _settle_cluster(
@@ -103,6 +105,7 @@ def _migrate_sorted(
     pair_c: NDArray[np.int64],
     pair_q: NDArray[np.int64],
     pair_d: NDArray[np.float64],
+    pair_g: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """:func:`migrate` with the accepted contacts in grid order (no allocation).
 
@@ -166,14 +169,93 @@ def _migrate_sorted(
         c_src[ones[k] & _LOW] = ones[k] >> 32
     n_left = 0
     for k in range(n_open):
-        if not _settle_cluster(
-            starts[k] >> 32, ends[k] >> 32, starts[k] & _LOW, ends[k] & _LOW, window,
-            cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
+        p0 = starts[k] >> 32
+        p1 = ends[k] >> 32
+        c0 = starts[k] & _LOW
+        c1 = ends[k] & _LOW
+        if p1 - p0 < 63 and c1 - c0 < 63 and (p1 - p0) * (c1 - c0) <= pair_d.size:
+            _settle_small(
+                p0, p1, c0, c1, window, cells, old_x, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
+                pair_g,
+            )  # fmt: skip
+        elif not _settle_cluster(
+            p0, p1, c0, c1, window, cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q,
+            pair_d,
         ):  # fmt: skip
             starts[n_left] = starts[k]
             ends[n_left] = ends[k]
             n_left += 1
     return n_left
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _settle_small(
+    p0: int,
+    p1: int,
+    c0: int,
+    c1: int,
+    window: int,
+    cells: NDArray[np.int64],
+    old_x: NDArray[np.float64],
+    c_idx: NDArray[np.int64],
+    c_x: NDArray[np.float64],
+    c_src: NDArray[np.int64],
+    pair_c: NDArray[np.int64],
+    pair_q: NDArray[np.int64],
+    pair_d: NDArray[np.float64],
+    pair_g: NDArray[np.int64],
+) -> None:  # pragma: no cover - compiled
+    """:func:`_settle_cluster` of fewer than 63 previous and 63 new contacts, branch-free.
+
+    The continued previous contacts and the assigned new ones are bits of two words. Every
+    (new, previous) pair is listed, flagged as a candidate or not, with its rank in the
+    generation order (new contact, then 2|q − i| + [q > i]: by distance in cells, the left one
+    first); the greedy pass takes the first pair in (distance, rank) order among those whose
+    two sides are free, until none is left (a NaN distance last, as numpy's sort).
+    """
+    taken_q = 0
+    for c in range(c0, c1):
+        q = c_src[c]
+        taken_q |= (1 << (q - p0)) if q >= 0 else 0
+    n_pairs = 0
+    reach = 2 * window + 1
+    for c in range(c0, c1):
+        free = c_src[c] < 0
+        i = c_idx[c]
+        x = c_x[c]
+        for q in range(p0, p1):
+            cell = cells[q]
+            rank = 2 * abs(cell - i) + (cell > i)
+            pair_c[n_pairs] = c
+            pair_q[n_pairs] = q
+            pair_d[n_pairs] = abs(old_x[q] - x)
+            pair_g[n_pairs] = ((c - c0) << 32) | rank
+            n_pairs += free & (rank <= reach) & (((taken_q >> (q - p0)) & 1) == 0)
+    taken_c = 0
+    while True:
+        best = -1
+        best_d = 0.0
+        best_g = 0
+        for k in range(n_pairs):
+            c = pair_c[k] - c0
+            q = pair_q[k] - p0
+            d = pair_d[k]
+            g = pair_g[k]
+            free = (((taken_c >> c) | (taken_q >> q)) & 1) == 0
+            first = (
+                (d < best_d)
+                | ((d == best_d) & (g < best_g))
+                | ((best_d != best_d) & ((d == d) | (g < best_g)))
+            )  # (NaN last)
+            better = free & ((best < 0) | first)
+            best = k if better else best
+            best_d = d if better else best_d
+            best_g = g if better else best_g
+        if best < 0:
+            return
+        c_src[pair_c[best]] = pair_q[best]
+        taken_c |= 1 << (pair_c[best] - c0)
+        taken_q |= 1 << (pair_q[best] - p0)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
