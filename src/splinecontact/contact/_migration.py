@@ -53,13 +53,14 @@ def migrate(
         pair_d = scratch.cl_s2
         pair_g = scratch.cl_nz.view(np.int64)
     else:
-        first = np.empty(n_old + n_c + 1, dtype=np.int64)
-        second = np.empty(n_old + n_c + 1, dtype=np.int64)
-        third = np.empty(n_old + n_c + 1, dtype=np.int64)
-        pair_c = np.empty(4 * n_c + 16, dtype=np.int64)
-        pair_q = np.empty(4 * n_c + 16, dtype=np.int64)
-        pair_d = np.empty(4 * n_c + 16)
-        pair_g = np.empty(4 * n_c + 16, dtype=np.int64)
+        size = max(4 * n_c, n_old) + n_c + 16  # (every column the same size, as the scratch's)
+        first = np.empty(size, dtype=np.int64)
+        second = np.empty(size, dtype=np.int64)
+        third = np.empty(size, dtype=np.int64)
+        pair_c = np.empty(size, dtype=np.int64)
+        pair_q = np.empty(size, dtype=np.int64)
+        pair_d = np.empty(size)
+        pair_g = np.empty(size, dtype=np.int64)
     cells = springs.cells
     old_x = springs.xc
     claimed = springs.claimed
@@ -127,6 +128,8 @@ def _migrate_sorted(
     last_old = -_END  # the last previous cell taken
     n_open = 0  # clusters listed for _settle_cluster
     n_one = 0  # clusters of one previous and one new contact
+    n_21 = 0  # of two previous and one new (listed in pair_c)
+    n_12 = 0  # of one previous and two new (listed in pair_q)
     while p < n_old and c < n_c:
         a = cells[p]
         b = c_idx[c]
@@ -135,11 +138,16 @@ def _migrate_sorted(
         cut = m - last > window
         n_o = p - open_p
         n_n = c - open_c
-        ones[n_one] = (open_p << 32) | open_c
+        at = (open_p << 32) | open_c
+        ones[n_one] = at
         n_one += cut & (n_o == 1) & (n_n == 1)
-        starts[n_open] = (open_p << 32) | open_c
+        pair_c[n_21] = at
+        n_21 += cut & (n_o == 2) & (n_n == 1)
+        pair_q[n_12] = at
+        n_12 += cut & (n_o == 1) & (n_n == 2)
+        starts[n_open] = at
         ends[n_open] = (p << 32) | c
-        n_open += cut & (n_o > 0) & (n_n > 0) & (n_o + n_n > 2)
+        n_open += cut & (n_o > 0) & (n_n > 0) & (n_o + n_n > 3)
         open_p = p if cut else open_p
         open_c = c if cut else open_c
         c_src[c] = p - 1 if last_old == b else -1  # (final when the new one is taken)
@@ -159,14 +167,47 @@ def _migrate_sorted(
     n_n = c - open_c
     if n_o == 1 and n_n == 1:
         c_src[open_c] = open_p
+    elif n_o == 2 and n_n == 1:
+        pair_c[n_21] = (open_p << 32) | open_c
+        n_21 += 1
+    elif n_o == 1 and n_n == 2:
+        pair_q[n_12] = (open_p << 32) | open_c
+        n_12 += 1
     elif n_o > 0 and n_n > 0:
         starts[n_open] = (open_p << 32) | open_c
         ends[n_open] = (p << 32) | c
         n_open += 1
-    for c in range(c, n_c):
-        c_src[c] = -1
+    for rest in range(c, n_c):
+        c_src[rest] = -1
     for k in range(n_one):
         c_src[ones[k] & _LOW] = ones[k] >> 32
+    reach = 2 * window + 1  # (rank = 2|q − i| + [q > i] ≤ reach: within the window)
+    for k in range(n_21):  # the new one takes the first of its candidates (distance, rank)
+        q = pair_c[k] >> 32
+        c = pair_c[k] & _LOW
+        i = c_idx[c]
+        d0 = abs(old_x[q] - c_x[c])
+        d1 = abs(old_x[q + 1] - c_x[c])
+        r0 = 2 * abs(cells[q] - i) + (cells[q] > i)
+        r1 = 2 * abs(cells[q + 1] - i) + (cells[q + 1] > i)
+        second = (r1 <= reach) & ((r0 > reach) | _first(d1, r1, d0, r0))
+        pick = q + 1 if second else q
+        pick = pick if (r0 <= reach) | (r1 <= reach) else -1
+        own = c_src[c]
+        c_src[c] = own if own >= 0 else pick
+    for k in range(n_12):  # the first pair (distance, then the left new one) is taken
+        q = pair_q[k] >> 32
+        c = pair_q[k] & _LOW
+        d0 = abs(old_x[q] - c_x[c])
+        d1 = abs(old_x[q] - c_x[c + 1])
+        in0 = abs(cells[q] - c_idx[c]) <= window
+        in1 = abs(cells[q] - c_idx[c + 1]) <= window
+        own0 = c_src[c]
+        own1 = c_src[c + 1]
+        free = (own0 < 0) & (own1 < 0)
+        second = in1 & ((not in0) | _first(d1, 1, d0, 0))
+        c_src[c] = q if free & in0 & (not second) else own0
+        c_src[c + 1] = q if free & second else own1
     n_left = 0
     for k in range(n_open):
         p0 = starts[k] >> 32
@@ -176,7 +217,7 @@ def _migrate_sorted(
         if p1 - p0 < 63 and c1 - c0 < 63 and (p1 - p0) * (c1 - c0) <= pair_d.size:
             _settle_small(
                 p0, p1, c0, c1, window, cells, old_x, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
-                pair_g,
+                pair_g, ones,
             )  # fmt: skip
         elif not _settle_cluster(
             p0, p1, c0, c1, window, cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q,
@@ -204,14 +245,15 @@ def _settle_small(
     pair_q: NDArray[np.int64],
     pair_d: NDArray[np.float64],
     pair_g: NDArray[np.int64],
+    order: NDArray[np.int64],
 ) -> None:  # pragma: no cover - compiled
     """:func:`_settle_cluster` of fewer than 63 previous and 63 new contacts, branch-free.
 
     The continued previous contacts and the assigned new ones are bits of two words. Every
     (new, previous) pair is listed, flagged as a candidate or not, with its rank in the
     generation order (new contact, then 2|q − i| + [q > i]: by distance in cells, the left one
-    first); the greedy pass takes the first pair in (distance, rank) order among those whose
-    two sides are free, until none is left (a NaN distance last, as numpy's sort).
+    first); the candidates are placed in (distance, rank) order by counting (a NaN distance
+    last, as numpy's sort) and taken in that order where both sides are still free.
     """
     taken_q = 0
     for c in range(c0, c1):
@@ -231,31 +273,23 @@ def _settle_small(
             pair_d[n_pairs] = abs(old_x[q] - x)
             pair_g[n_pairs] = ((c - c0) << 32) | rank
             n_pairs += free & (rank <= reach) & (((taken_q >> (q - p0)) & 1) == 0)
+    for k in range(n_pairs):  # the place of each pair in (distance, rank) order
+        place = 0
+        d = pair_d[k]
+        g = pair_g[k]
+        for j in range(n_pairs):
+            place += _first(pair_d[j], pair_g[j], d, g)
+        order[place] = k
     taken_c = 0
-    while True:
-        best = -1
-        best_d = 0.0
-        best_g = 0
-        for k in range(n_pairs):
-            c = pair_c[k] - c0
-            q = pair_q[k] - p0
-            d = pair_d[k]
-            g = pair_g[k]
-            free = (((taken_c >> c) | (taken_q >> q)) & 1) == 0
-            first = (
-                (d < best_d)
-                | ((d == best_d) & (g < best_g))
-                | ((best_d != best_d) & ((d == d) | (g < best_g)))
-            )  # (NaN last)
-            better = free & ((best < 0) | first)
-            best = k if better else best
-            best_d = d if better else best_d
-            best_g = g if better else best_g
-        if best < 0:
-            return
-        c_src[pair_c[best]] = pair_q[best]
-        taken_c |= 1 << (pair_c[best] - c0)
-        taken_q |= 1 << (pair_q[best] - p0)
+    for o in range(n_pairs):
+        k = order[o]
+        c = pair_c[k]
+        q = pair_q[k]
+        free = (((taken_c >> (c - c0)) | (taken_q >> (q - p0))) & 1) == 0
+        own = c_src[c]
+        c_src[c] = q if free else own
+        taken_c |= (1 << (c - c0)) if free else 0
+        taken_q |= (1 << (q - p0)) if free else 0
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -460,6 +494,17 @@ def _take(
     if c_src[c] < 0 and not claimed[q]:
         c_src[c] = q
         claimed[q] = True
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _first(d: float, rank: int, other_d: float, other_rank: int) -> bool:  # pragma: no cover
+    """Whether the pair (d, rank) comes before (other_d, other_rank): by distance (NaN last),
+    then by rank (branch-free)."""
+    return (
+        (d < other_d)
+        | ((d == other_d) & (rank < other_rank))
+        | ((other_d != other_d) & ((d == d) | (rank < other_rank)))
+    )
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
