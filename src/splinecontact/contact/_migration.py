@@ -77,7 +77,7 @@ def migrate(
         return
     n_left = _migrate_sorted(
         n_old, n_c, migrate_cells, cells, old_x, claimed, c_idx, c_x, c_src,
-        first, second, third, pair_c, pair_q, pair_d, pair_g,
+        first, second, third, pair_c, pair_q, pair_d, pair_g, pair_d.view(np.int64),
     )  # fmt: skip
     for k in range(n_left):  # clusters with more pairs than the arrays hold
         while not _settle_cluster(
@@ -107,6 +107,7 @@ def _migrate_sorted(
     pair_q: NDArray[np.int64],
     pair_d: NDArray[np.float64],
     pair_g: NDArray[np.int64],
+    pair_bits: NDArray[np.int64],
 ) -> int:  # pragma: no cover - compiled
     """:func:`migrate` with the accepted contacts in grid order (no allocation).
 
@@ -126,28 +127,16 @@ def _migrate_sorted(
     open_p = open_c = 0  # where the open cluster starts
     last = -_END  # the last cell taken
     last_old = -_END  # the last previous cell taken
-    n_open = 0  # clusters listed for _settle_cluster
-    n_one = 0  # clusters of one previous and one new contact
-    n_21 = 0  # of two previous and one new (listed in pair_c)
-    n_12 = 0  # of one previous and two new (listed in pair_q)
+    n_mixed = 0  # clusters of both kinds
     while p < n_old and c < n_c:
         a = cells[p]
         b = c_idx[c]
         take_old = a <= b
         m = min(a, b)
         cut = m - last > window
-        n_o = p - open_p
-        n_n = c - open_c
-        at = (open_p << 32) | open_c
-        ones[n_one] = at
-        n_one += cut & (n_o == 1) & (n_n == 1)
-        pair_c[n_21] = at
-        n_21 += cut & (n_o == 2) & (n_n == 1)
-        pair_q[n_12] = at
-        n_12 += cut & (n_o == 1) & (n_n == 2)
-        starts[n_open] = at
-        ends[n_open] = (p << 32) | c
-        n_open += cut & (n_o > 0) & (n_n > 0) & (n_o + n_n > 3)
+        starts[n_mixed] = (open_p << 32) | open_c
+        ends[n_mixed] = (p << 32) | c
+        n_mixed += cut & (p > open_p) & (c > open_c)
         open_p = p if cut else open_p
         open_c = c if cut else open_c
         c_src[c] = p - 1 if last_old == b else -1  # (final when the new one is taken)
@@ -163,22 +152,27 @@ def _migrate_sorted(
         c_src[c] = p - 1 if last_old == c_idx[c] else -1
         last = c_idx[c]
         c += 1
-    n_o = p - open_p
-    n_n = c - open_c
-    if n_o == 1 and n_n == 1:
-        c_src[open_c] = open_p
-    elif n_o == 2 and n_n == 1:
-        pair_c[n_21] = (open_p << 32) | open_c
-        n_21 += 1
-    elif n_o == 1 and n_n == 2:
-        pair_q[n_12] = (open_p << 32) | open_c
-        n_12 += 1
-    elif n_o > 0 and n_n > 0:
-        starts[n_open] = (open_p << 32) | open_c
-        ends[n_open] = (p << 32) | c
-        n_open += 1
+    starts[n_mixed] = (open_p << 32) | open_c
+    ends[n_mixed] = (p << 32) | c
+    n_mixed += (p > open_p) & (c > open_c)
     for rest in range(c, n_c):
         c_src[rest] = -1
+    # the clusters by kind: 1 + 1 (ones), 2 + 1 (pair_c), 1 + 2 (pair_q), larger (kept in place)
+    n_one = n_21 = n_12 = n_open = 0
+    for k in range(n_mixed):
+        at = starts[k]
+        end = ends[k]
+        n_o = (end >> 32) - (at >> 32)
+        n_n = (end & _LOW) - (at & _LOW)
+        ones[n_one] = at
+        n_one += (n_o == 1) & (n_n == 1)
+        pair_c[n_21] = at
+        n_21 += (n_o == 2) & (n_n == 1)
+        pair_q[n_12] = at
+        n_12 += (n_o == 1) & (n_n == 2)
+        starts[n_open] = at
+        ends[n_open] = end
+        n_open += n_o + n_n > 3
     for k in range(n_one):
         c_src[ones[k] & _LOW] = ones[k] >> 32
     reach = 2 * window + 1  # (rank = 2|q − i| + [q > i] ≤ reach: within the window)
@@ -214,10 +208,10 @@ def _migrate_sorted(
         p1 = ends[k] >> 32
         c0 = starts[k] & _LOW
         c1 = ends[k] & _LOW
-        if p1 - p0 < 63 and c1 - c0 < 63 and (p1 - p0) * (c1 - c0) <= pair_d.size:
+        if p1 - p0 < 63 and c1 - c0 < 63 and (p1 - p0) * (c1 - c0) < pair_d.size:
             _settle_small(
                 p0, p1, c0, c1, window, cells, old_x, c_idx, c_x, c_src, pair_c, pair_q, pair_d,
-                pair_g, ones,
+                pair_g, pair_bits, ones,
             )  # fmt: skip
         elif not _settle_cluster(
             p0, p1, c0, c1, window, cells, old_x, claimed, c_idx, c_x, c_src, pair_c, pair_q,
@@ -245,6 +239,7 @@ def _settle_small(
     pair_q: NDArray[np.int64],
     pair_d: NDArray[np.float64],
     pair_g: NDArray[np.int64],
+    pair_bits: NDArray[np.int64],
     order: NDArray[np.int64],
 ) -> None:  # pragma: no cover - compiled
     """:func:`_settle_cluster` of fewer than 63 previous and 63 new contacts, branch-free.
@@ -268,17 +263,19 @@ def _settle_small(
         for q in range(p0, p1):
             cell = cells[q]
             rank = 2 * abs(cell - i) + (cell > i)
+            d = abs(old_x[q] - x)
             pair_c[n_pairs] = c
             pair_q[n_pairs] = q
-            pair_d[n_pairs] = abs(old_x[q] - x)
+            pair_d[n_pairs] = d if d == d else np.nan  # (one NaN: its bits sort last)
             pair_g[n_pairs] = ((c - c0) << 32) | rank
             n_pairs += free & (rank <= reach) & (((taken_q >> (q - p0)) & 1) == 0)
-    for k in range(n_pairs):  # the place of each pair in (distance, rank) order
+    # the place of each pair in (distance, rank) order: the distances (≥ 0) compared as bits
+    for k in range(n_pairs):
         place = 0
-        d = pair_d[k]
+        key = pair_bits[k]
         g = pair_g[k]
         for j in range(n_pairs):
-            place += _first(pair_d[j], pair_g[j], d, g)
+            place += (pair_bits[j] < key) | ((pair_bits[j] == key) & (pair_g[j] < g))
         order[place] = k
     taken_c = 0
     for o in range(n_pairs):
