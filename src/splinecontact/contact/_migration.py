@@ -40,8 +40,10 @@ def migrate(
     hence mirror symmetric).
 
     With the accepted contacts in grid order (a sliding step) :func:`_migrate_sorted` merges
-    the two sorted lists; otherwise :func:`_migrate_any` bisects and assigns in one global
-    pass. ``reuse``: the work arrays are the free ``cl_*`` columns of ``scratch``.
+    the two sorted lists (allocating nothing, so that no reference counting enters its
+    loops; a cluster with more pairs than its arrays hold is settled here); otherwise
+    :func:`_migrate_any` bisects and assigns in one global pass. ``reuse``: the work arrays
+    are the free ``cl_*`` columns of ``scratch``.
     """
     n_old = springs.n_committed[0]
     if reuse and n_old < scratch.cl_i.size:  # (n_c ≤ that size: the accepted points)
@@ -67,12 +69,10 @@ def migrate(
     c_idx = scratch.idx
     c_x = scratch.xc
     c_src = scratch.src
-    ascending = True
+    descents = 0  # (no early exit: one vector pass)
     for c in range(1, n_c):
-        if c_idx[c] < c_idx[c - 1]:
-            ascending = False
-            break
-    if not ascending:
+        descents += c_idx[c] < c_idx[c - 1]
+    if descents:
         _migrate_any(n_c, migrate_cells, springs, scratch, first, second, pair_c, pair_q, pair_d)
         return
     n_left = _migrate_sorted(
@@ -115,11 +115,13 @@ def _migrate_sorted(
     ``c_idx[:n_c]`` (both ascending) sets the same-cell continuations and cuts the merged
     sequence into clusters wherever two consecutive cells lie more than ``window`` apart: no
     pair crosses a cut, so the greedy pass runs per cluster with the result of one global
-    pass. In a cluster of one previous and one new contact, the new one continues the previous
-    one (in its cell or within the window); a cluster of one kind has no pair; the others (a
-    few contacts each) are settled by :func:`_settle_cluster`. Positions are packed as
-    (previous << 32) | new. Returns how many clusters had more pairs than the pair arrays
-    hold: they are left, unsettled, in ``starts`` and ``ends``.
+    pass. A cluster of one kind has no pair; the clusters of both kinds are listed, then
+    sorted by kind (branch-free) and each kind settled in its own loop: one previous and one
+    new contact (the new one continues the previous one, in its cell or within the window:
+    most of them), two and one, one and two (branch-free), larger ones by
+    :func:`_settle_small` (fewer than 63 of each kind) or :func:`_settle_cluster`. Positions
+    are packed as (previous << 32) | new. Returns how many clusters had more pairs than the
+    pair arrays hold: they are left, unsettled, in ``starts`` and ``ends``.
     """
     if n_c == 0:
         return 0
