@@ -96,3 +96,48 @@ def _check(data: st.DataObject, n_grid: int, window: int, shuffle: bool, reuse: 
     expected = _reference(old_cells, old_xc, new_cells, new_xc, window)
     assert list(scratch.src[:n_c]) == expected
     assert not springs.claimed.any()  # the scratch flags are left clear
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    data=st.data(),
+    n_grid=st.integers(2, 400),
+    window=st.integers(0, 30),
+    crowd=st.sampled_from([0.02, 0.2, 0.6, 0.95]),
+    tight=st.booleans(),
+)
+def test_migration_of_contacts_in_grid_order_equals_the_global_greedy_rule(
+    data: st.DataObject, n_grid: int, window: int, crowd: float, tight: bool
+) -> None:
+    # The sliding step's form (contacts in grid order, 4 draws in 5) on sparse and crowded
+    # grids: clusters of one previous and one new contact, of a few (the branch-free settling),
+    # of 63 and more (the pair list), empty windows, contacts vanishing and appearing, equal
+    # distances (ties) on the coarse lattice; ``tight``: work arrays of the smallest size the
+    # kernels give, so that crowded clusters have more pairs than they hold (settled after
+    # the pass).
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    old_cells = np.flatnonzero(rng.random(n_grid) < crowd)
+    new_cells = np.flatnonzero(rng.random(n_grid) < crowd)
+    if data.draw(st.booleans()):  # the new contacts mostly the previous ones moved by a few cells
+        shift = data.draw(st.integers(-window - 1, window + 1))
+        moved = old_cells + shift
+        keep = (moved >= 0) & (moved < n_grid) & (rng.random(old_cells.size) < 0.9)
+        new_cells = np.union1d(moved[keep], new_cells[rng.random(new_cells.size) < 0.1])
+    old_xc = old_cells + rng.integers(-2, 3, old_cells.size) / 2
+    new_xc = new_cells + rng.integers(-2, 3, new_cells.size) / 2
+    if data.draw(st.integers(0, 4)) == 0:  # (not in grid order: the bisections, pairs grown)
+        new_cells, new_xc = new_cells[::-1], new_xc[::-1]
+    state = lp._State(n_grid, Hertz(), 10.0, 4.0, 0.3)
+    state.ensure(max(old_cells.size + 1, new_cells.size, 1) if tight else n_grid + 1)
+    springs, scratch = state.springs, state.scratch
+    n_old = old_cells.size
+    springs.cells[:n_old] = old_cells
+    springs.xc[:n_old] = old_xc
+    springs.n_committed[0] = n_old
+    n_c = new_cells.size
+    scratch.idx[:n_c] = new_cells
+    scratch.xc[:n_c] = new_xc
+    migrate(n_grid, n_c, window, springs, scratch, True)
+    expected = _reference(list(old_cells), list(old_xc), list(new_cells), list(new_xc), window)
+    assert list(scratch.src[:n_c]) == expected
+    assert not springs.claimed.any()
