@@ -3,8 +3,8 @@
 :func:`_may_touch` decides, with cheap branch-free arithmetic, whether a closed point may be
 accepted by the exact test :func:`.geometry.sphere_contact`; it never refuses one the exact
 test accepts (its tests are widened by a bound of the rounding errors of both computations),
-so the points it keeps, decided exactly afterwards, give the same results to the bit.
-:func:`flagged_positions` lists the points a pass has flagged.
+so the points it keeps, decided exactly afterwards, give the same results to the bit
+(:func:`._decide.flag_list` lists the points a pass has flagged).
 """
 
 from __future__ import annotations
@@ -12,10 +12,8 @@ from __future__ import annotations
 import math
 
 import numba
-import numpy as np
-from numpy.typing import NDArray
 
-__all__ = ["FILTER_SLACK", "flagged_positions", "widenings"]
+__all__ = ["FILTER_SLACK", "widenings"]
 
 
 #: Relative width of the filter's widened tests (:func:`_may_touch`), far above the rounding
@@ -129,27 +127,3 @@ def _may_touch(
     """
     e_d, e_9 = widenings(kappa_max * abs(g), kappa_max, dx, reach)
     return _touches(g, s1, s2, k_l, n_x, n_z, kappa_max, dx, reach, e_d, e_9)
-
-
-@numba.njit(cache=True, nogil=True)
-def flagged_positions(
-    flags: NDArray[np.uint8], total: int, hits: NDArray[np.int64]
-) -> int:  # pragma: no cover - compiled
-    """The positions j < ``total`` of the nonzero ``flags``, ascending, into ``hits``; their count.
-
-    The flags are read eight at a time (few are set) and the positions listed without a
-    branch per flag. ``hits`` must hold ``total`` entries.
-    """
-    n_hits = 0
-    full = total >> 3
-    words = flags[: 8 * full].view(np.uint64)
-    for w in range(full):
-        if words[w] == 0:
-            continue
-        for j in range(8 * w, 8 * w + 8):
-            hits[n_hits] = j
-            n_hits += flags[j] != 0
-    for j in range(8 * full, total):
-        hits[n_hits] = j
-        n_hits += flags[j] != 0
-    return n_hits

@@ -119,7 +119,8 @@ def _scratch(capacity: int) -> _k.Scratch:
         cl_kl=np.empty(capacity),
         cl_nx=np.empty(capacity),
         cl_nz=np.empty(capacity),
-        cl_keep=np.empty(capacity, dtype=np.bool_),
+        # (+16: also the bit-mask scratch of _decide.flag_list, capacity/8 + 8 bytes)
+        cl_keep=np.empty(capacity + 16, dtype=np.bool_),
         # a whole number of 8-byte words (the sliding step reads its flags by the word)
         cl_flag=np.empty(capacity + (-capacity) % 8, dtype=np.uint8),
     )

@@ -36,8 +36,8 @@ from ._culling import (
     sphere_ready,
 )
 from ._decide import _upper_sphere as _upper_sphere
-from ._decide import apply_law, decide_packed, packed_columns
-from ._filter import _may_touch, flagged_positions
+from ._decide import apply_law, decide_packed, flag_list, packed_columns
+from ._filter import _may_touch
 from ._migration import migrate as _migrate
 from .laws import Material, commit_law, release_law, spring_sums
 
@@ -336,7 +336,7 @@ def path_step(
             pre[5, :stop], bound[:stop], threshold, d, reach, kappa_max, surf.dx, flags[:stop],
         )  # fmt: skip
         hits = scratch.idx  # (free until the exact decision)
-        for h in range(flagged_positions(flags[:stop], stop, hits)):
+        for h in range(flag_list(flags, stop, hits, scratch.cl_keep.view(np.uint8))):
             j = hits[h]
             scratch.cl_i[n_packed] = cand[j]
             scratch.cl_g[n_packed] = pre[0, j] - d
