@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import ast
+import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -112,3 +114,26 @@ def test_the_study_package_imports_only_modules_below_it() -> None:
 def test_the_parameter_registry_is_a_base_module() -> None:
     assert _imports(SRC / "parameters.py", 1) <= {"errors"}
     assert "pydantic" not in _imports(SRC / "parameters.py", 0)
+
+
+def test_ctrl_c_inside_a_worker_start_is_held_not_lost() -> None:
+    """SIGINT that comes while the executor starts workers (the block that keeps it from them)
+    still interrupts the main process: blocked there, not ignored (ignoring discarded it, and
+    a study under load could run to its end after a Ctrl-C)."""
+    import signal
+
+    from splinecontact.study.executors import _sigint_held
+
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        pytest.skip("signals cannot be blocked here")
+    reached_end_of_block = False
+    with pytest.raises(KeyboardInterrupt):
+        with _sigint_held():
+            # (to the main thread itself: no other thread of the test process may take it)
+            signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
+            time.sleep(0.05)
+            reached_end_of_block = True  # held back in the block ...
+        time.sleep(1.0)  # ... and delivered when it ends (never reached)
+    assert reached_end_of_block
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())

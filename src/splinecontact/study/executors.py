@@ -111,16 +111,30 @@ def _warm_up_task(function: Callable[[Any], Any], part: Any) -> None:
 
 
 @contextlib.contextmanager
-def _sigint_ignored() -> Iterator[None]:
-    """Ignore SIGINT in this block (processes started here inherit it); main thread only."""
+def _sigint_held() -> Iterator[None]:
+    """Hold SIGINT back from the processes started in this block; main thread only.
+
+    The main thread blocks SIGINT here (it is not ignored: a Ctrl-C that comes in the block is
+    handled by another thread of this process or delivered when the block ends, never lost);
+    a worker started here inherits the blocked signal, so one still importing prints no
+    traceback, and ignores it from its initializer on. Where signals cannot be blocked (not
+    POSIX) SIGINT is ignored in the block instead, as processes inherit that too.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            yield
+        finally:
+            signal.signal(signal.SIGINT, previous)
+        return
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
 
 
 class LocalExecutor(Executor):
@@ -167,7 +181,7 @@ class LocalExecutor(Executor):
         self._barrier = context.Barrier(self._workers)
         pool = self._get_pool()
         padded: list[Any] = [*parts, *([None] * (self._workers - len(parts)))]
-        with _sigint_ignored():
+        with _sigint_held():
             for part in padded:
                 pool.submit(_warm_up_task, function, part)
         return True
@@ -181,7 +195,7 @@ class LocalExecutor(Executor):
             except Exception as exc:
                 future.set_exception(exc)
             return future
-        with _sigint_ignored():
+        with _sigint_held():
             return self._get_pool().submit(function, task)
 
     def run(self, function: Callable[[T], R], tasks: Sequence[T]) -> Iterator[R | Lost]:
@@ -193,9 +207,9 @@ class LocalExecutor(Executor):
         pool = self._get_pool()
         finished = False
         try:
-            # The workers are started by submit(): started with Ctrl-C ignored, a worker still
+            # The workers are started by submit(): started with Ctrl-C held back, a worker still
             # importing when Ctrl-C comes prints no traceback (the main process handles it).
-            with _sigint_ignored():
+            with _sigint_held():
                 pending: dict[Future[R], T] = {pool.submit(function, task): task for task in tasks}
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
