@@ -185,13 +185,11 @@ def test_export_of_a_missing_store_is_one_line(tmp_path: Path) -> None:
     assert "Traceback" not in proc.stderr
 
 
-# 2 × 48 realizations: long enough (≈ 1–2 s) that the interrupt, sent once two are stored,
-# lands before the study ends even when polling the store is slow (12 could all finish first)
 CTRL_C_STUDY = """
 [study]
 name = "ctrl-c"
 seed = 4
-realizations = 48
+realizations = 12
 
 [fixed]
 n_points = 50_000
@@ -242,7 +240,7 @@ def test_ctrl_c_stops_with_status_130_and_the_study_resumes(tmp_path: Path) -> N
     output = re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", b"".join(chunks).decode(errors="replace"))
     assert "error: interrupted; everything finished is stored in" in output
     assert "Traceback" not in output
-    assert 2 <= _done(out) < 96
+    assert 2 <= _done(out) < 24
     resumed = subprocess.run([*args, "-q"], capture_output=True, text=True, check=False)
     assert resumed.returncode == 0, resumed.stderr
     whole = tmp_path / "whole.zarr"
