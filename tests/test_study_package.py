@@ -127,13 +127,19 @@ def test_ctrl_c_inside_a_worker_start_is_held_not_lost() -> None:
     if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
         pytest.skip("signals cannot be blocked here")
     reached_end_of_block = False
-    with pytest.raises(KeyboardInterrupt):
-        with _sigint_held():
-            # (to the main thread itself: no other thread of the test process may take it)
-            signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
-            time.sleep(0.05)
-            reached_end_of_block = True  # held back in the block ...
-        time.sleep(1.0)  # ... and delivered when it ends (never reached)
+    # Python's own Ctrl-C handler, as in the command's main process (a test process may have
+    # set another one, e.g. a pool worker's initializer run in-process ignores SIGINT)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with _sigint_held():
+                # (to the main thread itself: no other thread of the test process may take it)
+                signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
+                time.sleep(0.05)
+                reached_end_of_block = True  # held back in the block ...
+            time.sleep(1.0)  # ... and delivered when it ends (never reached)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert reached_end_of_block
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())
