@@ -218,9 +218,18 @@ def test_ctrl_c_stops_with_status_130_and_the_study_resumes(tmp_path: Path) -> N
     out = tmp_path / "c.zarr"
     args = [CLI, "study", "run", str(path), "-o", str(out), "--workers", "2", "--batch-size", "1"]
     master, slave = pty.openpty()
-    proc = subprocess.Popen(
-        args, stdin=slave, stdout=slave, stderr=slave, env=_env(), start_new_session=True
-    )
+    # The command starts as a terminal's foreground job does: Ctrl-C not ignored nor blocked.
+    # (A process started with SIGINT ignored keeps it ignored, and this test process may have
+    # inherited or been left with that: the command then ran to its end, exit 0.)
+    handler = signal.signal(signal.SIGINT, signal.default_int_handler)  # SIG_DFL after exec
+    mask = signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    try:
+        proc = subprocess.Popen(
+            args, stdin=slave, stdout=slave, stderr=slave, env=_env(), start_new_session=True
+        )
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        signal.signal(signal.SIGINT, handler)
     os.close(slave)
     deadline = time.monotonic() + 120
     while _done(out) < 2 and proc.poll() is None and time.monotonic() < deadline:
